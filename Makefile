@@ -1,0 +1,43 @@
+# MobileManiBench-MuJoCo. `make setup` builds .venv (Python >= 3.12); every other target runs inside it.
+SHELL := /bin/bash
+VENV := .venv
+PY := $(VENV)/bin/python
+export MUJOCO_GL ?= egl
+export HF_HUB_OFFLINE ?= 1
+export WANDB_MODE ?= offline
+
+# Python 3.12: from PATH first, then pyenv.
+PYTHON312 ?= $(shell for c in python3.12 $$(pyenv root 2>/dev/null)/versions/3.12*/bin/python3.12; do \
+	"$$c" -c 'import sys; assert sys.version_info[:2] == (3, 12)' >/dev/null 2>&1 && { echo "$$c"; break; }; done)
+
+ROBOT ?= g1
+
+.PHONY: setup test test-slow lint bench bench-sim clean-venv
+
+setup: $(VENV)/.installed
+
+# Rebuilt only when the dependency list changes.
+$(VENV)/.installed: pyproject.toml
+	@test -n "$(PYTHON312)" || { echo "error: Python 3.12 not found on PATH or under pyenv"; exit 1; }
+	@test -x $(PY) || $(PYTHON312) -m venv $(VENV)
+	$(PY) -m pip install --quiet --upgrade pip
+	$(PY) -m pip install --quiet -e ".[dev]"
+	touch $@
+
+test: setup
+	$(PY) -m pytest -q
+
+test-slow: setup
+	$(PY) -m pytest -q -m slow
+
+lint: setup
+	$(VENV)/bin/ruff check .
+	$(VENV)/bin/ruff format --check .
+
+bench: bench-sim
+
+bench-sim: setup
+	$(PY) -m mobilemani_rl.bench
+
+clean-venv:
+	rm -rf $(VENV)

@@ -1,0 +1,1 @@
+"""MobileManiRL: simulator, assets, environment, PPO training and evaluation."""

@@ -1,0 +1,1 @@
+"""Procedural MuJoCo assets: robots, objects, and the support stage."""

@@ -1,0 +1,41 @@
+"""What the environment needs to know about a robot, independent of how its model is built."""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+from dataclasses import dataclass, field
+
+import mujoco
+
+
+@dataclass(frozen=True)
+class RobotDescription:
+    """Names and constants of one robot, with the same kinematic roles as the reference robots.
+
+    The IK chain is base yaw + base forward slide + 7 arm joints (reference §3); hand joints are mapped
+    absolutely from [-1, 1] onto their limits, in action order. `hand_mimic` couples passive copies of a hand
+    joint (the second finger of a parallel gripper) to their leader.
+    """
+
+    name: str
+    build_spec: Callable[[], mujoco.MjSpec]
+    ik_joints: tuple[str, ...]
+    hand_joints: tuple[str, ...]
+    hand_body: str
+    palm_site: str
+    finger_sites: tuple[str, ...]  # thumb (or outer finger) last, as the reference
+    active_bodies: tuple[str, ...]
+    base_body: str
+    default_qpos: dict[str, float]
+    default_root_xy: tuple[float, float]
+    head_camera: str
+    wrist_camera: str
+    hand_mimic: dict[str, str] = field(default_factory=dict)
+
+    @property
+    def action_dim(self) -> int:
+        return 6 + len(self.hand_joints)
+
+    @property
+    def active_joints(self) -> tuple[str, ...]:
+        return self.ik_joints + self.hand_joints

@@ -1,0 +1,118 @@
+"""Batched rotation helpers on numpy arrays.
+
+Conventions follow the reference code: quaternions are (w, x, y, z); Euler angles are (roll, pitch, yaw) with
+R = Rz(yaw) @ Ry(pitch) @ Rx(roll). Every function broadcasts over leading axes.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+Array = np.ndarray
+
+
+def quat_mul(q1: Array, q2: Array) -> Array:
+    """Hamilton product q1 ⊗ q2."""
+    w1, x1, y1, z1 = np.moveaxis(q1, -1, 0)
+    w2, x2, y2, z2 = np.moveaxis(q2, -1, 0)
+    return np.stack(
+        (
+            w1 * w2 - x1 * x2 - y1 * y2 - z1 * z2,
+            w1 * x2 + x1 * w2 + y1 * z2 - z1 * y2,
+            w1 * y2 - x1 * z2 + y1 * w2 + z1 * x2,
+            w1 * z2 + x1 * y2 - y1 * x2 + z1 * w2,
+        ),
+        axis=-1,
+    )
+
+
+def quat_conj(q: Array) -> Array:
+    return q * np.array([1.0, -1.0, -1.0, -1.0])
+
+
+def quat_apply(q: Array, v: Array) -> Array:
+    """Rotate vectors v by unit quaternions q."""
+    w = q[..., :1]
+    u = q[..., 1:]
+    t = 2.0 * np.cross(u, v)
+    return v + w * t + np.cross(u, t)
+
+
+def quat_from_euler(euler: Array) -> Array:
+    """(roll, pitch, yaw) -> quaternion, R = Rz·Ry·Rx."""
+    half = 0.5 * np.asarray(euler)
+    cr, cp, cy = np.cos(half[..., 0]), np.cos(half[..., 1]), np.cos(half[..., 2])
+    sr, sp, sy = np.sin(half[..., 0]), np.sin(half[..., 1]), np.sin(half[..., 2])
+    return np.stack(
+        (
+            cr * cp * cy + sr * sp * sy,
+            sr * cp * cy - cr * sp * sy,
+            cr * sp * cy + sr * cp * sy,
+            cr * cp * sy - sr * sp * cy,
+        ),
+        axis=-1,
+    )
+
+
+def euler_from_quat(q: Array) -> Array:
+    """Quaternion -> (roll, pitch, yaw), the inverse of `quat_from_euler` (pitch in [-pi/2, pi/2])."""
+    w, x, y, z = np.moveaxis(q, -1, 0)
+    roll = np.arctan2(2.0 * (w * x + y * z), 1.0 - 2.0 * (x * x + y * y))
+    pitch = np.arcsin(np.clip(2.0 * (w * y - z * x), -1.0, 1.0))
+    yaw = np.arctan2(2.0 * (w * z + x * y), 1.0 - 2.0 * (y * y + z * z))
+    return np.stack((roll, pitch, yaw), axis=-1)
+
+
+def quat_from_yaw(yaw: Array) -> Array:
+    yaw = np.asarray(yaw, dtype=float)
+    zeros = np.zeros_like(yaw)
+    return np.stack((np.cos(0.5 * yaw), zeros, zeros, np.sin(0.5 * yaw)), axis=-1)
+
+
+def quat_from_matrix(mat: Array) -> Array:
+    """Rotation matrices (..., 3, 3) -> unit quaternions with w >= 0 (Shepperd's method, branch-free select)."""
+    m = np.asarray(mat)
+    m00, m11, m22 = m[..., 0, 0], m[..., 1, 1], m[..., 2, 2]
+    candidates = np.stack(
+        (
+            np.stack((1 + m00 + m11 + m22, m[..., 2, 1] - m[..., 1, 2], m[..., 0, 2] - m[..., 2, 0],
+                      m[..., 1, 0] - m[..., 0, 1]), axis=-1),
+            np.stack((m[..., 2, 1] - m[..., 1, 2], 1 + m00 - m11 - m22, m[..., 0, 1] + m[..., 1, 0],
+                      m[..., 0, 2] + m[..., 2, 0]), axis=-1),
+            np.stack((m[..., 0, 2] - m[..., 2, 0], m[..., 0, 1] + m[..., 1, 0], 1 - m00 + m11 - m22,
+                      m[..., 1, 2] + m[..., 2, 1]), axis=-1),
+            np.stack((m[..., 1, 0] - m[..., 0, 1], m[..., 0, 2] + m[..., 2, 0], m[..., 1, 2] + m[..., 2, 1],
+                      1 - m00 - m11 + m22), axis=-1),
+        ),
+        axis=-2,
+    )
+    best = np.argmax(np.stack((m00 + m11 + m22, m00, m11, m22), axis=-1), axis=-1)
+    q = np.take_along_axis(candidates, best[..., None, None], axis=-2)[..., 0, :]
+    q = q / np.linalg.norm(q, axis=-1, keepdims=True)
+    return q * np.where(q[..., :1] < 0, -1.0, 1.0)
+
+
+def axis_angle_from_quat(q: Array) -> Array:
+    """Unit quaternion -> rotation vector (axis * angle), angle in [0, pi]."""
+    q = q * np.where(q[..., :1] < 0, -1.0, 1.0)
+    sin_half = np.linalg.norm(q[..., 1:], axis=-1, keepdims=True)
+    angle = 2.0 * np.arctan2(sin_half, q[..., :1])
+    # angle / sin(angle/2) -> 2 as the angle -> 0.
+    scale = np.where(sin_half > 1e-8, angle / np.maximum(sin_half, 1e-12), 2.0)
+    return q[..., 1:] * scale
+
+
+def quat_between_vectors(a: Array, b: Array) -> Array:
+    """Shortest-arc rotation taking direction a to direction b (antiparallel: 180° about an orthogonal axis)."""
+    a = a / np.linalg.norm(a, axis=-1, keepdims=True)
+    b = b / np.linalg.norm(b, axis=-1, keepdims=True)
+    dot = np.sum(a * b, axis=-1, keepdims=True)
+    axis = np.cross(a, b)
+    # For antiparallel vectors pick any axis orthogonal to a.
+    helper = np.where(np.abs(a[..., :1]) < 0.9, np.array([1.0, 0.0, 0.0]), np.array([0.0, 1.0, 0.0]))
+    fallback = np.cross(a, helper)
+    fallback = fallback / np.linalg.norm(fallback, axis=-1, keepdims=True)
+    antiparallel = dot < -1.0 + 1e-6
+    q = np.where(antiparallel, np.concatenate((np.zeros_like(dot), fallback), axis=-1),
+                 np.concatenate((1.0 + dot, axis), axis=-1))
+    return q / np.linalg.norm(q, axis=-1, keepdims=True)
