@@ -31,8 +31,8 @@ ARM_JOINTS = tuple(f"idx6{i}_arm_r_joint{i}" for i in range(1, 8))
 GRIPPER_JOINT = "idx81_gripper_r_outer_joint1"
 GRIPPER_MIMIC = "idx71_gripper_r_inner_joint1"
 
-SHOULDER_HEIGHT = 0.95
-UPPER_ARM, FOREARM = 0.28, 0.26
+SHOULDER_HEIGHT = 0.8
+UPPER_ARM, FOREARM = 0.30, 0.28
 GRIPPER_REACH = 0.13  # gripper base -> fingertip centre (the palm point)
 FINGER_TRAVEL = 0.04  # per finger; fully open gap = 8 cm
 # Gripper frame at zero arm angles: approach (+z) = world -z, finger opening axis (+x) = world +y.
@@ -60,6 +60,7 @@ def _build_gripper(spec: mujoco.MjSpec, wrist: mujoco.MjsBody) -> None:
 
 def build_g1_spec() -> mujoco.MjSpec:
     spec = mujoco.MjSpec()
+    spec.compiler.degree = False
     spec.modelname = "g1"
     base = add_mobile_base(spec, "base_link", slide_limit=5.0)
     torso = add_link(base, "body_link1", (0, 0, 0.3))

@@ -30,9 +30,9 @@ CAPSULE = mujoco.mjtGeom.mjGEOM_CAPSULE
 ARM_JOINTS = tuple(f"right_arm_joint{i}" for i in range(1, 8))
 ARM_LIMITS = ((-3.107, 3.107), (-2.269, 2.269), (-3.107, 3.107), (-2.356, 2.356), (-3.107, 3.107),
               (-2.234, 2.234), (-6.283, 6.283))
-UPPER_ARM, FOREARM = 0.30, 0.26
+UPPER_ARM, FOREARM = 0.30, 0.28
 # Wrist pitch defaults to 0.5 rad (as the reference) so that the two forearm/hand roll axes stay apart.
-DEFAULT_ARM = (0.45, 0.0, 0.0, math.pi / 2 - 0.95, 0.0, 0.5, 0.0)
+DEFAULT_ARM = (0.8, 0.0, 0.0, math.pi / 2 - 1.3, 0.0, 0.5, 0.0)
 
 P = "right_hand_"
 HAND_LIMITS = {
@@ -96,6 +96,7 @@ def _build_hand(wrist: mujoco.MjsBody) -> None:
 
 def build_xhand_spec() -> mujoco.MjSpec:
     spec = mujoco.MjSpec()
+    spec.compiler.degree = False
     spec.modelname = "xhand"
     base = add_mobile_base(spec, "basey", slide_limit=5.0)
     add_camera(base, "head_camera", pos=(0, 0.1, 1.0), forward=(0, math.cos(math.pi / 6), -math.sin(math.pi / 6)),

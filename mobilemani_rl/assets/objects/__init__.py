@@ -1,0 +1,22 @@
+"""Object registry: object id -> ObjectModel."""
+
+from mobilemani_rl.assets.objects.categories import ALL_SKILLS, CATEGORY_PARAMS, ObjectKind, Place
+from mobilemani_rl.assets.objects.model import ObjectKinematics, ObjectModel
+from mobilemani_rl.assets.objects.test_objects import TEST_OBJECTS
+from mobilemani_rl.registry import check_choice, lookup
+
+OBJECTS: dict[str, ObjectModel] = dict(TEST_OBJECTS)
+
+
+def get_object(object_id: str) -> ObjectModel:
+    return lookup(OBJECTS, object_id, "object")
+
+
+def check_skill(obj: ObjectModel, skill: str) -> str:
+    """The skill, if the object supports it; otherwise one error naming the valid ones."""
+    check_choice(skill, ALL_SKILLS, "skill")
+    return check_choice(skill, obj.skills, f"skill for {obj.object_id}")
+
+
+__all__ = ["CATEGORY_PARAMS", "OBJECTS", "ObjectKind", "ObjectKinematics", "ObjectModel", "Place", "check_skill",
+           "get_object"]

@@ -1,0 +1,99 @@
+"""Environment configuration dataclasses, mirrored by conf/env/*.yaml.
+
+Defaults are the reference's (shared/reference/reference_implementation.md §1–6) except for the MuJoCo
+timestep, which is ours: see PhysicsCfg.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+
+@dataclass
+class PhysicsCfg:
+    """Control runs at 30 Hz as the reference (60 Hz PhysX, decimation 2).
+
+    MuJoCo takes `substeps` steps per control step (timestep = 1 / (control_hz * substeps)). 4 substeps
+    (8.3 ms) is the largest setting at which the scripted grasps stayed stable (no NaNs, no penetration
+    blow-ups, held objects do not slip) in tests/test_physics_stability.py; 2 and 3 substeps let the
+    stiff finger contacts jitter.
+    """
+
+    control_hz: float = 30.0
+    substeps: int = 4
+    solver_iterations: int = 20
+    ls_iterations: int = 10
+    nthread: int = 0  # 0: all cores
+
+    @property
+    def timestep(self) -> float:
+        return 1.0 / (self.control_hz * self.substeps)
+
+
+@dataclass
+class TaskCfg:
+    robot: str = "g1"
+    object: str = "test/box"
+    skill: str = "open"
+
+
+@dataclass
+class ActionCfg:
+    pos_scale: float = 0.025  # m per step for a unit action
+    rot_scale: float = 0.025  # rad per step for a unit action
+    ik_damping: float = 0.01  # DLS lambda; the damping term is lambda^2 I
+
+
+@dataclass
+class ResetCfg:
+    root_x_range: tuple[float, float] = (-0.25, 0.25)
+    root_y_range: tuple[float, float] = (0.0, 0.5)  # only toward the object
+    yaw_jitter_deg: float = 15.0
+    random_height: float = 0.5  # stage height U(0, 0.5) m where the category allows it
+    stage_shift: float = 0.1  # stage front face moved toward the robot by U(0, 0.1) m
+    pick_yaw_deg: float = 90.0  # rigid objects spawn with yaw U(-90°, 90°)
+    pick_y_offset: float = 0.1
+
+
+@dataclass
+class RewardWeights:
+    """Reference §5b; identical for both robots."""
+
+    diff_reach_pos_action: float = -0.1
+    diff_reach_rot_action: float = -0.1
+    diff_reach_joint_action: float = -0.1
+    diff_reach_palm_rot_action: float = -0.1
+    diff_hand_object: float = -1.0
+    diff_hand_body_object: float = -0.0
+    diff_hand_thumb_object: float = -0.0
+    diff_hand_finger_object: float = -2.0
+    diff_object_goal: float = -1.0
+    bonus_grasp_object: float = 1.0
+    diff_move_pos_action: float = -0.1
+    diff_move_rot_action: float = -0.1
+    bonus_object_goal: float = 2.0
+
+
+@dataclass
+class SuccessCfg:
+    threshold: float = 0.05  # m, grasp point to goal
+    hold_steps: int = 30  # truncate after this many (cumulative) success steps
+    reach_radius: float = 0.2  # d_h at which reach terms switch off and grasping can count
+    finger_radius: float = 0.1  # thumb and mean finger distance for the grasp flag
+    max_hand_distance: float = 5.0  # termination
+    max_speed: float = 10.0  # termination: palm or grasp point faster than this (m/s)
+
+
+@dataclass
+class EnvCfg:
+    num_envs: int = 64
+    episode_length: int = 300  # control steps (10 s at 30 Hz)
+    seed: int = 0
+    obs_clip: float = 10.0
+    reward_clip: float = 10.0
+    task: TaskCfg = field(default_factory=TaskCfg)
+    physics: PhysicsCfg = field(default_factory=PhysicsCfg)
+    actions: ActionCfg = field(default_factory=ActionCfg)
+    reset: ResetCfg = field(default_factory=ResetCfg)
+    rewards: RewardWeights = field(default_factory=RewardWeights)
+    success: SuccessCfg = field(default_factory=SuccessCfg)

@@ -1,0 +1,185 @@
+"""The batched MobileManiRL environment: N MuJoCo simulations in one `mujoco.batch.Batch`.
+
+Step order follows the reference DirectRLEnv (§1): action → IK → physics substeps → counters → dones →
+rewards → resets → observations. Everything above physics is vectorised numpy over envs.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import mujoco
+import mujoco.batch
+import numpy as np
+
+from mobilemani_rl.assets.objects import ObjectKind, check_skill, get_object
+from mobilemani_rl.assets.robots import get_robot
+from mobilemani_rl.envs.config import EnvCfg
+from mobilemani_rl.envs.frames import Frames, SimView, read_frames
+from mobilemani_rl.envs.ik import dls_step, wrist_pose_error
+from mobilemani_rl.envs.observations import compute_observation, normalize_to_limits, observation_dim
+from mobilemani_rl.envs.resets import sample_episode_start
+from mobilemani_rl.envs.rewards import RewardContext, TaskDistances, grasp_flag, reward_terms, total_reward
+from mobilemani_rl.envs.scene import build_scene
+from mobilemani_rl.rotations import quat_from_euler, quat_mul
+
+# The palm-rotation reach term is on only for these (category, skill) pairs (reference §5b).
+PALM_ROTATION_TASKS = {("holistic", "pick"), ("refrigerator", "open")}
+PALM_ROTATION_PRE = quat_from_euler(np.array([0.0, np.pi / 2, 0.0]))  # +90° about world y
+
+
+@dataclass
+class StepResult:
+    obs: np.ndarray  # (n, obs_dim) float32
+    reward: np.ndarray  # (n,)
+    terminated: np.ndarray  # (n,) bool, failures
+    truncated: np.ndarray  # (n,) bool, time-outs and success holds (value is bootstrapped)
+    success_flag: np.ndarray  # (n,) bool, latched success of the episode that ran this step (before resets)
+    log: dict[str, float | np.ndarray]
+
+
+class MobileManiEnv:
+    """Batched env for one (robot, object, skill) task."""
+
+    def __init__(self, cfg: EnvCfg) -> None:
+        self.cfg = cfg
+        self.robot = get_robot(cfg.task.robot)
+        self.object = get_object(cfg.task.object)
+        self.skill = check_skill(self.object, cfg.task.skill)
+        self.model, self.index = build_scene(self.robot, self.object, cfg.physics)
+        self.num_envs = cfg.num_envs
+        self.num_actions = self.robot.action_dim
+        self.max_episode_length = cfg.episode_length
+        self.batch = mujoco.batch.Batch(self.model, cfg.num_envs, nthread=cfg.physics.nthread, persistent=True)
+        self.view = SimView(self.batch, self.model)
+        self.rng = np.random.default_rng(cfg.seed)
+        self.all_ids = np.arange(self.num_envs)
+        idx = self.index
+        self.joint_limits = np.concatenate((idx.ik_limits, idx.hand_limits))
+        default = dict(zip(idx.robot_qpos.tolist(), idx.robot_default_qpos.tolist(), strict=True))
+        self.default_hand_action = normalize_to_limits(np.array([default[q] for q in idx.hand_qpos]),
+                                                       idx.hand_limits)
+        self.num_obs = observation_dim(self.num_actions, len(idx.finger_sites), len(idx.active_bodies),
+                                       len(self.joint_limits))
+        self.use_palm_rotation = (self.object.category, self.skill) in PALM_ROTATION_TASKS
+        n = self.num_envs
+        self.episode_length_buf = np.zeros(n, dtype=np.int64)  # may be randomised by a trainer
+        self.env_times = np.zeros(n, dtype=np.int64)  # drives the time encoding; always starts at 0
+        self.success_count = np.zeros(n, dtype=np.int64)
+        self.success_flag = np.zeros(n, dtype=bool)
+        self.last_action = np.zeros((n, self.num_actions))
+        self.goal_pos = np.zeros((n, 3))
+        self.goal_scale = np.ones(n)
+        self.palm_rot_target = np.tile([1.0, 0.0, 0.0, 0.0], (n, 1))
+        self.frames: Frames | None = None
+        self.obs: np.ndarray | None = None
+
+    # ------------------------------------------------------------------ reset
+    def reset(self, seed: int | None = None) -> np.ndarray:
+        if seed is not None:
+            self.rng = np.random.default_rng(seed)
+        self.batch.reset(stage=mujoco.mjtStage.mjSTAGE_NONE)
+        self.frames = None
+        self._reset_envs(self.all_ids)
+        self.obs = self._observe()
+        return self.obs
+
+    def _reset_envs(self, ids: np.ndarray) -> None:
+        idx, v = self.index, self.view
+        start = sample_episode_start(self.rng, len(ids), self.robot, self.object, self.skill, self.cfg.reset)
+        rows = ids[:, None]
+        v.qpos[rows, idx.robot_qpos] = idx.robot_default_qpos
+        v.qvel[ids] = 0.0
+        v.ctrl[rows, idx.robot_act] = v.qpos[rows, idx.robot_act_qpos]
+        v.mocap_pos[ids, idx.robot_mocap] = start.root_pos
+        v.mocap_quat[ids, idx.robot_mocap] = start.root_quat
+        v.mocap_pos[ids, idx.stage_mocap] = start.stage_pos
+        if self.object.kind is ObjectKind.ARTICULATED:
+            v.mocap_pos[ids, idx.object_mocap] = start.object_pos
+            v.mocap_quat[ids, idx.object_mocap] = start.object_quat
+        else:
+            q = idx.object_free_qpos
+            v.qpos[ids, q:q + 3] = start.object_pos
+            v.qpos[ids, q + 3:q + 7] = start.object_quat
+        if idx.object_joint_qpos >= 0:
+            v.qpos[ids, idx.object_joint_qpos] = start.joint_value
+        self.batch.forward(ids, stage=mujoco.mjtStage.mjSTAGE_VEL)
+        fresh = read_frames(v, idx, ids)
+        fresh.joint_acc[:] = 0.0
+        if self.frames is None:
+            self.frames = fresh
+        else:
+            self.frames.assign(ids, fresh)
+        self.goal_pos[ids] = start.goal_pos
+        self.goal_scale[ids] = start.goal_scale
+        self.palm_rot_target[ids] = quat_mul(PALM_ROTATION_PRE, fresh.palm_quat)
+        self.episode_length_buf[ids] = 0
+        self.env_times[ids] = 0
+        self.success_count[ids] = 0
+        self.success_flag[ids] = False
+        self.last_action[ids] = 0.0
+
+    # ------------------------------------------------------------------ step
+    def apply_action(self, actions: np.ndarray) -> np.ndarray:
+        """Clamp, run one DLS IK step, and write joint targets; returns the applied action."""
+        idx, v, acfg = self.index, self.view, self.cfg.actions
+        actions = np.clip(np.nan_to_num(np.asarray(actions, dtype=np.float64), nan=0.0), -1.0, 1.0)
+        jacp, jacr = self.batch.jac(idx.hand_body, self.frames.hand_pos)
+        jacobian = np.concatenate((jacp[:, :, idx.ik_dof], jacr[:, :, idx.ik_dof]), axis=1)
+        error = wrist_pose_error(actions, acfg.pos_scale, acfg.rot_scale)
+        q = v.qpos[:, idx.ik_qpos]
+        targets = np.clip(q + dls_step(jacobian, error, acfg.ik_damping), idx.ik_limits[:, 0], idx.ik_limits[:, 1])
+        low, high = idx.hand_limits[:, 0], idx.hand_limits[:, 1]
+        hand = low + 0.5 * (actions[:, 6:] + 1.0) * (high - low)
+        v.ctrl[:, idx.ik_act] = targets
+        v.ctrl[:, idx.hand_act] = hand
+        v.ctrl[:, idx.mimic_act] = hand[:, idx.mimic_leader]
+        return actions
+
+    def step(self, actions: np.ndarray) -> StepResult:
+        actions = self.apply_action(actions)
+        self.batch.step(nstep=self.cfg.physics.substeps, stage=mujoco.mjtStage.mjSTAGE_VEL)
+        self.episode_length_buf += 1
+        self.env_times += 1
+        self.last_action = actions
+        frames = self.frames = read_frames(self.view, self.index, self.all_ids)
+        scfg = self.cfg.success
+        dist = TaskDistances.measure(frames, self.goal_pos)
+        # Truncation reads the success counter before this step's success is added (reference §5c).
+        truncated = (self.episode_length_buf >= self.max_episode_length - 1) | (
+            self.success_count >= scfg.hold_steps)
+        terminated = (dist.hand > scfg.max_hand_distance) | (
+            np.linalg.norm(frames.palm_linvel, axis=1) > scfg.max_speed) | (
+            np.linalg.norm(frames.grasp_linvel, axis=1) > scfg.max_speed)
+        terminated &= ~truncated
+        grasped = grasp_flag(dist, scfg)
+        success = dist.goal < scfg.threshold
+        self.success_count += success
+        self.success_flag |= success
+        ctx = RewardContext(self.goal_pos, self.goal_scale, self.default_hand_action,
+                            self.palm_rot_target if self.use_palm_rotation else None)
+        terms = reward_terms(frames, actions, ctx, dist, grasped, scfg)
+        reward, weighted = total_reward(terms, self.cfg.rewards, self.cfg.reward_clip)
+        log: dict[str, float | np.ndarray] = {f"/reward/{k}": float(val.mean()) for k, val in weighted.items()}
+        log["/task/grasp"] = float(grasped.mean())
+        log["/task/success"] = float(success.mean())
+        # Episode statistics over episodes that ended by truncation, as the reference's training log.
+        ended = np.flatnonzero(truncated)
+        if ended.size:
+            log["/episode/success_flag"] = self.success_flag[ended].astype(np.float32)
+            log["/episode/success"] = success[ended].astype(np.float32)
+            log["/episode/success_ratio"] = ((self.goal_scale - dist.goal) / self.goal_scale)[ended]
+        success_flag = self.success_flag.copy()
+        done = np.flatnonzero(truncated | terminated)
+        if done.size:
+            self._reset_envs(done)
+        self.obs = self._observe()
+        return StepResult(self.obs, reward, terminated, truncated, success_flag, log)
+
+    def _observe(self) -> np.ndarray:
+        return compute_observation(self.frames, self.env_times, self.last_action, self.goal_pos, self.joint_limits,
+                                   self.cfg.obs_clip)
+
+    # ------------------------------------------------------------------ queries
+    def distances(self) -> TaskDistances:
+        return TaskDistances.measure(self.frames, self.goal_pos)

@@ -1,0 +1,52 @@
+"""The policy observation in the reference order (§4): 146-d for G1, 223-d for XHand."""
+
+from __future__ import annotations
+
+import numpy as np
+
+from mobilemani_rl.envs.frames import Frames
+from mobilemani_rl.rotations import euler_from_quat
+
+TIME_ENCODING_DIM = 30
+# f_i = exp(-2i·ln(10000)/30), i = 0..14: slot 2i = sin(t·f_i), slot 2i+1 = cos(t·f_i), t in control steps.
+_FREQUENCIES = np.exp(-2.0 * np.arange(TIME_ENCODING_DIM // 2) * np.log(10000.0) / TIME_ENCODING_DIM)
+
+
+def time_encoding(steps: np.ndarray) -> np.ndarray:
+    angles = steps[:, None].astype(np.float64) * _FREQUENCIES
+    encoding = np.empty((steps.shape[0], TIME_ENCODING_DIM))
+    encoding[:, 0::2] = np.sin(angles)
+    encoding[:, 1::2] = np.cos(angles)
+    return encoding
+
+
+def observation_dim(num_actions: int, num_fingers: int, num_bodies: int, num_joints: int) -> int:
+    return TIME_ENCODING_DIM + num_actions + 12 + 12 * num_fingers + 3 * num_joints + (
+        1 + num_fingers + num_bodies + 3) + 9
+
+
+def normalize_to_limits(values: np.ndarray, limits: np.ndarray) -> np.ndarray:
+    """Map joint values onto [-1, 1] by their (J, 2) limits."""
+    low, high = limits[:, 0], limits[:, 1]
+    return 2.0 * (values - low) / (high - low) - 1.0
+
+
+def compute_observation(frames: Frames, steps: np.ndarray, last_action: np.ndarray, goal_pos: np.ndarray,
+                        joint_limits: np.ndarray, clip: float) -> np.ndarray:
+    n = steps.shape[0]
+    palm = np.concatenate((frames.palm_pos, euler_from_quat(frames.palm_quat), frames.palm_linvel,
+                           frames.palm_angvel), axis=1)
+    fingers = np.concatenate((frames.finger_pos, euler_from_quat(frames.finger_quat), frames.finger_linvel,
+                              frames.finger_angvel), axis=2).reshape(n, -1)
+    joints = np.stack((normalize_to_limits(frames.joint_pos, joint_limits), frames.joint_vel, frames.joint_acc),
+                      axis=2).reshape(n, -1)
+    grasp = frames.grasp_pos
+    robot_object = np.concatenate((
+        np.linalg.norm(grasp - frames.palm_pos, axis=1, keepdims=True),
+        np.linalg.norm(frames.finger_pos - grasp[:, None], axis=2),
+        np.linalg.norm(frames.body_pos - grasp[:, None], axis=2),
+        grasp - frames.palm_pos,
+    ), axis=1)
+    obj = np.concatenate((grasp, euler_from_quat(frames.grasp_quat), goal_pos - grasp), axis=1)
+    obs = np.concatenate((time_encoding(steps), last_action, palm, fingers, joints, robot_object, obj), axis=1)
+    return np.clip(np.nan_to_num(obs, nan=0.0, posinf=clip, neginf=-clip), -clip, clip).astype(np.float32)

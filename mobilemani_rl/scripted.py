@@ -1,0 +1,87 @@
+"""Scripted reference policy: follow the reward's reference actions with the privileged task state.
+
+Phases per env: approach (pre-grasp point in front of the handle along the grasp direction, then the grasp
+point; palm turned onto the grasp direction, hand at its default), close the hand, then move the grasp point
+toward the goal. It is the sanity check that physics, IK and goals are consistent, and the simplest teacher.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from mobilemani_rl.envs.mobilemani_env import PALM_ROTATION_TASKS, MobileManiEnv
+from mobilemani_rl.envs.rewards import GRASP_DIRECTION, rotation_to
+from mobilemani_rl.rotations import euler_from_quat, quat_conj, quat_mul
+
+APPROACH, CLOSE, MOVE = 0, 1, 2
+
+
+@dataclass
+class ScriptedPolicyCfg:
+    pos_gain: float = 12.0  # action per metre of error (saturates at 1 = 2.5 cm per step)
+    rot_gain: float = 4.0
+    pregrasp_offset: float = 0.08  # m in front of the grasp point along the grasp direction
+    pregrasp_tolerance: float = 0.02
+    grasp_tolerance: float = 0.012
+    close_steps: int = 8
+    move_rotation: float = 0.0  # weight of the reward's palm-rotation target while moving (it fights the grasp)
+
+
+class ScriptedPolicy:
+    def __init__(self, env: MobileManiEnv, cfg: ScriptedPolicyCfg | None = None) -> None:
+        self.env = env
+        self.cfg = cfg or ScriptedPolicyCfg()
+        n = env.num_envs
+        self.phase = np.zeros(n, dtype=np.int64)
+        self.phase_steps = np.zeros(n, dtype=np.int64)
+        self.pregrasp_done = np.zeros(n, dtype=bool)
+        self.palm_rotation = (env.object.category, env.skill) in PALM_ROTATION_TASKS
+
+    def __call__(self) -> np.ndarray:
+        env, cfg, f = self.env, self.cfg, self.env.frames
+        restarted = env.env_times == 0
+        self.phase[restarted] = APPROACH
+        self.phase_steps[restarted] = 0
+        self.pregrasp_done[restarted] = False
+
+        n = env.num_envs
+        actions = np.zeros((n, env.num_actions))
+        hand_open = np.clip(env.default_hand_action, -1.0, 1.0)
+        actions[:, 6:] = hand_open
+
+        # Approach: pre-grasp point first, then straight in along the grasp direction.
+        pregrasp = f.grasp_pos - cfg.pregrasp_offset * GRASP_DIRECTION
+        near_pregrasp = np.linalg.norm(pregrasp - f.palm_pos, axis=1) < cfg.pregrasp_tolerance
+        self.pregrasp_done |= near_pregrasp & (self.phase == APPROACH)
+        target = np.where(self.pregrasp_done[:, None], f.grasp_pos, pregrasp)
+        actions[:, 0:3] = np.clip(cfg.pos_gain * (target - f.palm_pos), -1.0, 1.0)
+        actions[:, 3:6] = np.clip(cfg.rot_gain * rotation_to(f.palm_quat, np.broadcast_to(GRASP_DIRECTION, (n, 3))),
+                                  -1.0, 1.0)
+        if self.palm_rotation:
+            pitch = euler_from_quat(quat_mul(env.palm_rot_target, quat_conj(f.palm_quat)))[:, 1]
+            actions[:, 4] = np.clip(cfg.rot_gain * pitch, -1.0, 1.0)
+        reached = self.pregrasp_done & (np.linalg.norm(f.grasp_pos - f.palm_pos, axis=1) < cfg.grasp_tolerance)
+        self._advance(reached & (self.phase == APPROACH), CLOSE)
+
+        holding = self.phase >= CLOSE
+        hand_closed = -hand_open if env.robot.name == "g1" else np.ones_like(hand_open)
+        actions[holding, 6:] = hand_closed
+        closing = self.phase == CLOSE
+        actions[closing, 0:6] = 0.0
+        self._advance(closing & (self.phase_steps >= cfg.close_steps), MOVE)
+
+        moving = self.phase == MOVE
+        to_goal = env.goal_pos - f.grasp_pos
+        move = np.clip(cfg.pos_gain * to_goal, -1.0, 1.0)
+        away = -to_goal / np.maximum(np.linalg.norm(to_goal, axis=1, keepdims=True), 1e-9)
+        turn = cfg.move_rotation * rotation_to(f.palm_quat, away)
+        actions[moving, 0:3] = move[moving]
+        actions[moving, 3:6] = turn[moving]
+        self.phase_steps += 1
+        return actions
+
+    def _advance(self, mask: np.ndarray, phase: int) -> None:
+        self.phase[mask] = phase
+        self.phase_steps[mask] = 0
