@@ -12,6 +12,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from mobilemani_rl.envs.mobilemani_env import PALM_ROTATION_TASKS, MobileManiEnv
+from mobilemani_rl.envs.observations import normalize_to_limits
 from mobilemani_rl.envs.rewards import GRASP_DIRECTION, rotation_to
 from mobilemani_rl.rotations import euler_from_quat, quat_conj, quat_mul
 
@@ -38,6 +39,8 @@ class ScriptedPolicy:
         self.phase_steps = np.zeros(n, dtype=np.int64)
         self.pregrasp_done = np.zeros(n, dtype=bool)
         self.palm_rotation = (env.object.category, env.skill) in PALM_ROTATION_TASKS
+        grasp = np.array([env.robot.grasp_hand_qpos[j] for j in env.robot.hand_joints])
+        self.hand_closed = normalize_to_limits(grasp, env.index.hand_limits)
 
     def __call__(self) -> np.ndarray:
         env, cfg, f = self.env, self.cfg, self.env.frames
@@ -66,8 +69,7 @@ class ScriptedPolicy:
         self._advance(reached & (self.phase == APPROACH), CLOSE)
 
         holding = self.phase >= CLOSE
-        hand_closed = -hand_open if env.robot.name == "g1" else np.ones_like(hand_open)
-        actions[holding, 6:] = hand_closed
+        actions[holding, 6:] = self.hand_closed
         closing = self.phase == CLOSE
         actions[closing, 0:6] = 0.0
         self._advance(closing & (self.phase_steps >= cfg.close_steps), MOVE)

@@ -8,6 +8,7 @@ import mujoco
 import numpy as np
 
 from mobilemani_rl.envs.scene import SceneIndex
+from mobilemani_rl.rotations import cross
 
 
 class SimView:
@@ -24,6 +25,8 @@ class SimView:
         self.xquat = batch.bind("xquat")
         self.site_xpos = batch.bind("site_xpos")
         self.cvel = batch.bind("cvel")
+        self.xanchor = batch.bind("xanchor")
+        self.xaxis = batch.bind("xaxis")
         self.subtree_com = batch.bind("subtree_com")
         self.body_rootid = model.body_rootid
         self.site_bodyid = model.site_bodyid
@@ -53,6 +56,9 @@ class Frames:
     joint_vel: np.ndarray
     joint_acc: np.ndarray
 
+    def rows(self, rows: np.ndarray) -> Frames:
+        return Frames(**{f.name: getattr(self, f.name)[rows] for f in fields(self)})
+
     def assign(self, rows: np.ndarray, other: Frames) -> None:
         """Overwrite the given env rows with `other`, which holds exactly those rows."""
         for f in fields(self):
@@ -69,7 +75,7 @@ def _point_velocity(view: SimView, ids: np.ndarray, body: np.ndarray, point: np.
     cvel = view.cvel[rows, body]
     anchor = view.subtree_com[rows, view.body_rootid[body]]
     angular = cvel[..., :3]
-    return cvel[..., 3:] + np.cross(angular, point - anchor), angular
+    return cvel[..., 3:] + cross(angular, point - anchor), angular
 
 
 def read_frames(view: SimView, index: SceneIndex, ids: np.ndarray) -> Frames:

@@ -16,7 +16,7 @@ from mobilemani_rl.assets.objects import ObjectKind, check_skill, get_object
 from mobilemani_rl.assets.robots import get_robot
 from mobilemani_rl.envs.config import EnvCfg
 from mobilemani_rl.envs.frames import Frames, SimView, read_frames
-from mobilemani_rl.envs.ik import dls_step, wrist_pose_error
+from mobilemani_rl.envs.ik import chain_jacobian, dls_step, wrist_pose_error
 from mobilemani_rl.envs.observations import compute_observation, normalize_to_limits, observation_dim
 from mobilemani_rl.envs.resets import sample_episode_start
 from mobilemani_rl.envs.rewards import RewardContext, TaskDistances, grasp_flag, reward_terms, total_reward
@@ -35,6 +35,8 @@ class StepResult:
     terminated: np.ndarray  # (n,) bool, failures
     truncated: np.ndarray  # (n,) bool, time-outs and success holds (value is bootstrapped)
     success_flag: np.ndarray  # (n,) bool, latched success of the episode that ran this step (before resets)
+    final_obs: np.ndarray  # (len(done_ids), obs_dim) last observation of each episode that ended this step
+    done_ids: np.ndarray  # envs whose episode ended this step (they were reset; `obs` is their first one)
     log: dict[str, float | np.ndarray]
 
 
@@ -124,8 +126,8 @@ class MobileManiEnv:
         """Clamp, run one DLS IK step, and write joint targets; returns the applied action."""
         idx, v, acfg = self.index, self.view, self.cfg.actions
         actions = np.clip(np.nan_to_num(np.asarray(actions, dtype=np.float64), nan=0.0), -1.0, 1.0)
-        jacp, jacr = self.batch.jac(idx.hand_body, self.frames.hand_pos)
-        jacobian = np.concatenate((jacp[:, :, idx.ik_dof], jacr[:, :, idx.ik_dof]), axis=1)
+        jacobian = chain_jacobian(self.frames.hand_pos, v.xanchor[:, idx.ik_joint], v.xaxis[:, idx.ik_joint],
+                                  idx.ik_is_hinge)
         error = wrist_pose_error(actions, acfg.pos_scale, acfg.rot_scale)
         q = v.qpos[:, idx.ik_qpos]
         targets = np.clip(q + dls_step(jacobian, error, acfg.ik_damping), idx.ik_limits[:, 0], idx.ik_limits[:, 1])
@@ -171,14 +173,19 @@ class MobileManiEnv:
             log["/episode/success_ratio"] = ((self.goal_scale - dist.goal) / self.goal_scale)[ended]
         success_flag = self.success_flag.copy()
         done = np.flatnonzero(truncated | terminated)
+        final_obs = self._observe(done) if done.size else np.empty((0, self.num_obs), np.float32)
         if done.size:
             self._reset_envs(done)
         self.obs = self._observe()
-        return StepResult(self.obs, reward, terminated, truncated, success_flag, log)
+        return StepResult(self.obs, reward, terminated, truncated, success_flag, final_obs, done, log)
 
-    def _observe(self) -> np.ndarray:
-        return compute_observation(self.frames, self.env_times, self.last_action, self.goal_pos, self.joint_limits,
-                                   self.cfg.obs_clip)
+    def _observe(self, ids: np.ndarray | None = None) -> np.ndarray:
+        if ids is None:
+            frames, ids = self.frames, slice(None)
+        else:
+            frames = self.frames.rows(ids)
+        return compute_observation(frames, self.env_times[ids], self.last_action[ids], self.goal_pos[ids],
+                                   self.joint_limits, self.cfg.obs_clip)
 
     # ------------------------------------------------------------------ queries
     def distances(self) -> TaskDistances:

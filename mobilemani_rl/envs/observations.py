@@ -37,9 +37,9 @@ def compute_observation(frames: Frames, steps: np.ndarray, last_action: np.ndarr
     palm = np.concatenate((frames.palm_pos, euler_from_quat(frames.palm_quat), frames.palm_linvel,
                            frames.palm_angvel), axis=1)
     fingers = np.concatenate((frames.finger_pos, euler_from_quat(frames.finger_quat), frames.finger_linvel,
-                              frames.finger_angvel), axis=2).reshape(n, -1)
+                              frames.finger_angvel), axis=2).reshape(n, 12 * frames.finger_pos.shape[1])
     joints = np.stack((normalize_to_limits(frames.joint_pos, joint_limits), frames.joint_vel, frames.joint_acc),
-                      axis=2).reshape(n, -1)
+                      axis=2).reshape(n, 3 * frames.joint_pos.shape[1])
     grasp = frames.grasp_pos
     robot_object = np.concatenate((
         np.linalg.norm(grasp - frames.palm_pos, axis=1, keepdims=True),

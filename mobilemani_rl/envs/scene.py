@@ -23,6 +23,8 @@ class SceneIndex:
 
     ik_qpos: np.ndarray
     ik_dof: np.ndarray
+    ik_joint: np.ndarray  # joint ids
+    ik_is_hinge: np.ndarray  # bool; the others are slides
     ik_act: np.ndarray
     ik_limits: np.ndarray  # (9, 2)
     hand_qpos: np.ndarray
@@ -105,6 +107,8 @@ def index_scene(model: mujoco.MjModel, robot: RobotDescription, obj: ObjectModel
     return SceneIndex(
         ik_qpos=np.array([j.qposadr[0] for j in ik]),
         ik_dof=np.array([j.dofadr[0] for j in ik]),
+        ik_joint=np.array([j.id for j in ik]),
+        ik_is_hinge=np.array([j.type[0] == mujoco.mjtJoint.mjJNT_HINGE for j in ik]),
         ik_act=act_of(robot.ik_joints),
         ik_limits=np.array([j.range for j in ik]),
         hand_qpos=np.array([j.qposadr[0] for j in hand]),

@@ -12,6 +12,7 @@ from mobilemani_rl.rotations import quat_from_matrix
 
 ROBOT_RGBA = (0.85, 0.85, 0.88, 1.0)
 DARK_RGBA = (0.2, 0.2, 0.22, 1.0)
+FINGER_SOLIMP = (0.99, 0.995, 0.001, 0.5, 2.0)
 
 
 def add_geom(
@@ -39,6 +40,12 @@ def add_geom(
         geom.mass = mass
     if friction is not None:
         geom.friction = list(friction)
+    if collide:
+        # Near-hard contacts: with the default impedance (0.9) a light held object (10 g) sinks centimetres into
+        # the fingers, since MuJoCo's soft-contact penetration scales with the inverse effective mass.
+        # A large solmix makes these parameters win over the object's when MuJoCo mixes the pair's.
+        geom.solimp = list(FINGER_SOLIMP)
+        geom.solmix = 100.0
     return geom
 
 

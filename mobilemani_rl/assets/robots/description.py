@@ -27,6 +27,7 @@ class RobotDescription:
     active_bodies: tuple[str, ...]
     base_body: str
     default_qpos: dict[str, float]
+    grasp_hand_qpos: dict[str, float]  # hand joint targets of a closed grasp (used by the scripted policy)
     default_root_xy: tuple[float, float]
     head_camera: str
     wrist_camera: str

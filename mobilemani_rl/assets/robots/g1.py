@@ -51,11 +51,11 @@ def _build_gripper(spec: mujoco.MjSpec, wrist: mujoco.MjsBody) -> None:
     for side, name, joint in ((1, "gripper_r_outer_link5", GRIPPER_JOINT), (-1, "gripper_r_inner_link5", GRIPPER_MIMIC)):
         finger = add_link(base, name, (0, 0, 0))
         # Positive joint values open the gripper: each finger slides outward along its side of the x axis.
-        add_slide(finger, joint, (side, 0, 0), (0.0, FINGER_TRAVEL), armature=0.01, damping=0.5)
+        add_slide(finger, joint, (side, 0, 0), (0.0, FINGER_TRAVEL), armature=0.01, damping=20.0)
         add_geom(finger, BOX, (0.006, 0.018, 0.045), pos=(side * 0.008, 0, GRIPPER_REACH - 0.02),
                  rgba=DARK_RGBA, mass=0.05, friction=pad_friction)
         finger.add_site(name=f"{name}_tip", pos=[side * 0.008, 0, GRIPPER_REACH], size=[0.006, 0, 0], group=4)
-        add_position_actuator(spec, joint, kp=400.0, kv=10.0, force=60.0, limits=(0.0, FINGER_TRAVEL))
+        add_position_actuator(spec, joint, kp=200.0, kv=5.0, force=8.0, limits=(0.0, FINGER_TRAVEL))
 
 
 def build_g1_spec() -> mujoco.MjSpec:
@@ -100,6 +100,7 @@ G1 = RobotDescription(
     base_body="base_link",
     default_qpos={**dict(zip(ARM_JOINTS, DEFAULT_ARM, strict=True)), GRIPPER_JOINT: FINGER_TRAVEL,
                   GRIPPER_MIMIC: FINGER_TRAVEL},
+    grasp_hand_qpos={GRIPPER_JOINT: 0.0},
     default_root_xy=(0.0, -1.5),
     head_camera="head_camera",
     wrist_camera="wrist_camera",

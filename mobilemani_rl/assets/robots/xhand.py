@@ -42,11 +42,15 @@ HAND_LIMITS = {
     "thumb_rota_joint1": (-1.05, 1.57), "index_joint2": (0.0, 1.92), "thumb_rota_joint2": (-0.175, 1.83),
 }
 HAND_JOINTS = tuple(P + name for name in HAND_LIMITS)  # reference action order
+# A wrapping grasp: fingers curl around a bar at the palm point, the thumb closes the cage from the wrist side.
+HAND_GRASP = {"thumb_bend": 1.5, "thumb_rota_joint1": 0.8, "thumb_rota_joint2": 1.4, "index_bend": 0.0,
+              "index_joint1": 1.6, "mid_joint1": 1.6, "ring_joint1": 1.6, "pinky_joint1": 1.6,
+              "index_joint2": 1.9, "mid_joint2": 1.9, "ring_joint2": 1.9, "pinky_joint2": 1.9}
 HAND_DEFAULT = {"thumb_bend": 1.5, "thumb_rota_joint1": 0.0, "thumb_rota_joint2": 0.5, "index_bend": 0.1,
                 "index_joint1": 0.0, "mid_joint1": 0.0, "ring_joint1": 0.0, "pinky_joint1": 0.0,
                 "index_joint2": 0.5, "mid_joint2": 0.5, "ring_joint2": 0.5, "pinky_joint2": 0.5}
 
-PALM_LENGTH = 0.10
+PALM_LENGTH = 0.075  # knuckles just beyond the palm point, so curled fingers wrap a bar held there
 PHALANX = (0.045, 0.035)
 FINGER_Y = {"pinky": -0.033, "ring": -0.011, "mid": 0.011, "index": 0.033}
 CURL_AXIS = (0, -1, 0)  # positive flexion turns +z toward the palm side (-x)
@@ -137,6 +141,7 @@ XHAND = RobotDescription(
     base_body="basey",
     default_qpos={**dict(zip(ARM_JOINTS, DEFAULT_ARM, strict=True)),
                   **{P + name: value for name, value in HAND_DEFAULT.items()}},
+    grasp_hand_qpos={P + name: value for name, value in HAND_GRASP.items()},
     default_root_xy=(0.0, -1.25),
     head_camera="head_camera",
     wrist_camera="wrist_camera",

@@ -1,0 +1,82 @@
+"""Environment throughput against the raw physics limit, measured in the same run.
+
+    python -m mobilemani_rl.bench [--robots g1 xhand] [--envs 64 256 1024] [--seconds 3]
+
+env: `MobileManiEnv.step` with random actions (IK, physics, observations, rewards, resets).
+raw: the same compiled model in a `mujoco.batch.Batch` of the same size and thread count, started from the
+env's states, stepped `substeps` times per control step with no Python work in between.
+Both report control steps per second (x substeps = physics steps per second). Prints a table and JSON.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import time
+from collections.abc import Callable
+
+import mujoco
+import mujoco.batch
+import numpy as np
+
+from mobilemani_rl.envs.config import EnvCfg, TaskCfg
+from mobilemani_rl.envs.mobilemani_env import MobileManiEnv
+
+
+def _rate(step: Callable[[], None], n: int, seconds: float) -> float:
+    """Best control-steps/s over 3 trials of about seconds/3 each (after a warm-up)."""
+    for _ in range(5):
+        step()
+    best, calls = 0.0, 1
+    for _ in range(3):
+        start = time.perf_counter()
+        done = 0
+        while time.perf_counter() - start < seconds / 3:
+            for _ in range(calls):
+                step()
+            done += calls
+            calls = max(1, calls)
+        best = max(best, done * n / (time.perf_counter() - start))
+    return best
+
+
+def bench_task(robot: str, num_envs: int, seconds: float, obj: str = "test/box", skill: str = "open") -> dict:
+    env = MobileManiEnv(EnvCfg(num_envs=num_envs, task=TaskCfg(robot=robot, object=obj, skill=skill)))
+    env.reset()
+    rng = np.random.default_rng(0)
+    actions = rng.uniform(-1, 1, (64, num_envs, env.num_actions))
+    counter = iter(range(1 << 62))
+
+    def env_step() -> None:
+        env.step(actions[next(counter) % len(actions)])
+
+    env_rate = _rate(env_step, num_envs, seconds)
+    raw = mujoco.batch.Batch(env.model, num_envs, nthread=env.cfg.physics.nthread)
+    for field in ("qpos", "qvel", "ctrl", "mocap_pos", "mocap_quat"):
+        raw.bind(field)[:] = env.batch.bind(field)
+    substeps = env.cfg.physics.substeps
+    raw_rate = _rate(lambda: raw.step(nstep=substeps), num_envs, seconds)
+    return {
+        "robot": robot, "num_envs": num_envs, "substeps": substeps, "timestep": env.model.opt.timestep,
+        "env_steps_per_s": round(env_rate), "raw_steps_per_s": round(raw_rate),
+        "raw_physics_steps_per_s": round(raw_rate * substeps), "env_over_raw": round(env_rate / raw_rate, 3),
+    }
+
+
+def main(argv: list[str] | None = None) -> list[dict]:
+    parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    parser.add_argument("--robots", nargs="+", default=["g1", "xhand"])
+    parser.add_argument("--envs", nargs="+", type=int, default=[64, 256, 1024])
+    parser.add_argument("--seconds", type=float, default=3.0, help="timing budget per measurement")
+    args = parser.parse_args(argv)
+    results = [bench_task(r, n, args.seconds) for r in args.robots for n in args.envs]
+    print(f"{'robot':6} {'envs':>5} {'env steps/s':>12} {'raw steps/s':>12} {'env/raw':>8}")
+    for r in results:
+        print(f"{r['robot']:6} {r['num_envs']:5d} {r['env_steps_per_s']:12d} {r['raw_steps_per_s']:12d} "
+              f"{r['env_over_raw']:8.2f}")
+    print(json.dumps({"benchmark": "sim", "results": results}, indent=2))
+    return results
+
+
+if __name__ == "__main__":
+    main()
