@@ -3,7 +3,7 @@
 from mobilemani_rl.assets.objects.categories import ALL_SKILLS, CATEGORY_PARAMS, ObjectKind, Place
 from mobilemani_rl.assets.objects.model import ObjectKinematics, ObjectModel
 from mobilemani_rl.assets.objects.test_objects import TEST_OBJECTS
-from mobilemani_rl.registry import check_choice, lookup
+from mobilemani_rl.registry import UnknownNameError, check_choice, lookup
 
 OBJECTS: dict[str, ObjectModel] = dict(TEST_OBJECTS)
 
@@ -15,7 +15,10 @@ def get_object(object_id: str) -> ObjectModel:
 def check_skill(obj: ObjectModel, skill: str) -> str:
     """The skill, if the object supports it; otherwise one error naming the valid ones."""
     check_choice(skill, ALL_SKILLS, "skill")
-    return check_choice(skill, obj.skills, f"skill for {obj.object_id}")
+    if skill not in obj.skills:
+        raise UnknownNameError(f"skill {skill!r} does not apply to {obj.object_id} ({obj.kind}); "
+                               f"valid skills for it: {', '.join(obj.skills)}")
+    return skill
 
 
 __all__ = ["CATEGORY_PARAMS", "OBJECTS", "ObjectKind", "ObjectKinematics", "ObjectModel", "Place", "check_skill",
