@@ -1,0 +1,20 @@
+"""Renderer configuration (reference §8c: 520 x 520 head and wrist cameras)."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+
+@dataclass
+class CameraRenderCfg:
+    """Image size, cameras and the quality switches that dominate llvmpipe cost (simulation facts §D)."""
+
+    width: int = 520
+    height: int = 520
+    cameras: tuple[str, ...] = ("head_camera", "wrist_camera")
+    shadows: bool = False
+    multisampling: bool = False
+    msaa_samples: int = 4  # used only with multisampling
+    near: float = 0.01  # m; the wrist camera sees the fingers a few cm away
+    far: float = 50.0  # m; beyond any room
+    depth_clip: float = 5.0  # m mapped to 255 in the uint8 depth image (reference §8d)
