@@ -3,9 +3,6 @@
 from __future__ import annotations
 
 from collections.abc import Iterable, Mapping
-from typing import TypeVar
-
-T = TypeVar("T")
 
 
 class UnknownNameError(ValueError):
@@ -19,5 +16,5 @@ def check_choice(value: str, choices: Iterable[str], kind: str) -> str:
     return value
 
 
-def lookup(table: Mapping[str, T], name: str, kind: str) -> T:
+def lookup[T](table: Mapping[str, T], name: str, kind: str) -> T:
     return table[check_choice(name, table, kind)]

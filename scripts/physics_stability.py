@@ -36,7 +36,7 @@ def measure(robot: str, obj: str, skill: str, substeps: int, num_envs: int) -> d
                 worst["penetration"] = max(worst["penetration"], float(-data.contact.dist[: data.ncon].min()))
             if not np.isfinite(data.qpos).all() or env.batch.error(i):
                 worst["unstable"] += 1
-        moving = policy.phase == MOVE
+        moving = (policy.phase == MOVE) & (env.env_times > 0)
         if moving.any():
             worst["slip"] = max(worst["slip"], float(env.distances().hand[moving].max()))
 

@@ -14,9 +14,9 @@ import mujoco
 
 from mobilemani_rl.assets.robots.builder import (
     DARK_RGBA,
+    add_arm,
     add_camera,
     add_geom,
-    add_arm,
     add_link,
     add_mobile_base,
     add_position_actuator,

@@ -117,7 +117,8 @@ def build_xhand_spec() -> mujoco.MjSpec:
     for joint, limits in zip(ARM_JOINTS, ARM_LIMITS, strict=True):
         add_position_actuator(spec, joint, kp=600.0, kv=30.0, force=300.0, limits=limits)
     for joint in HAND_JOINTS:
-        add_position_actuator(spec, joint, kp=4.0, kv=0.1, force=4.0, limits=HAND_LIMITS[joint.removeprefix(P)])
+        # About 10 N at a fingertip: strong enough to hold handles, too weak to crush through thin parts.
+        add_position_actuator(spec, joint, kp=0.5, kv=0.06, force=0.6, limits=HAND_LIMITS[joint.removeprefix(P)])
     return spec
 
 
