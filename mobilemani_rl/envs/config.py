@@ -8,6 +8,8 @@ from __future__ import annotations
 
 from dataclasses import dataclass, field
 
+from omegaconf import DictConfig, OmegaConf
+
 
 @dataclass
 class PhysicsCfg:
@@ -49,8 +51,8 @@ class ActionCfg:
 
 @dataclass
 class ResetCfg:
-    root_x_range: tuple[float, float] = (-0.25, 0.25)
-    root_y_range: tuple[float, float] = (0.0, 0.5)  # only toward the object
+    root_x_range: list[float] = field(default_factory=lambda: [-0.25, 0.25])
+    root_y_range: list[float] = field(default_factory=lambda: [0.0, 0.5])  # only toward the object
     yaw_jitter_deg: float = 15.0
     random_height: float = 0.5  # stage height U(0, 0.5) m where the category allows it
     stage_shift: float = 0.1  # stage front face moved toward the robot by U(0, 0.1) m
@@ -100,3 +102,9 @@ class EnvCfg:
     reset: ResetCfg = field(default_factory=ResetCfg)
     rewards: RewardWeights = field(default_factory=RewardWeights)
     success: SuccessCfg = field(default_factory=SuccessCfg)
+
+
+def env_cfg_from_hydra(cfg: DictConfig) -> EnvCfg:
+    """Build the EnvCfg from a composed root config (`env` block + `task` block); unknown keys are errors."""
+    merged = OmegaConf.merge(OmegaConf.structured(EnvCfg), {**OmegaConf.to_container(cfg.env), "task": cfg.task})
+    return OmegaConf.to_object(merged)

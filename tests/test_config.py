@@ -1,0 +1,33 @@
+"""The Hydra YAML tree mirrors the dataclass configs."""
+
+from pathlib import Path
+
+import pytest
+from hydra import compose, initialize_config_dir
+from omegaconf.errors import ConfigKeyError
+
+from mobilemani_rl.envs.config import EnvCfg, TaskCfg, env_cfg_from_hydra
+
+CONF = str(Path(__file__).resolve().parents[1] / "conf")
+
+
+def compose_rl(overrides: list[str]):
+    with initialize_config_dir(config_dir=CONF, version_base="1.3"):
+        return compose(config_name="rl", overrides=overrides)
+
+
+def test_default_yaml_equals_dataclass_defaults():
+    cfg = env_cfg_from_hydra(compose_rl([]))
+    assert cfg == EnvCfg()
+
+
+def test_overrides_reach_the_env_config():
+    cfg = env_cfg_from_hydra(compose_rl(["robot=xhand", "task.object=test/can", "task.skill=pick",
+                                         "env.num_envs=8", "env.physics.substeps=4"]))
+    assert cfg.task == TaskCfg(robot="xhand", object="test/can", skill="pick")
+    assert cfg.num_envs == 8 and cfg.physics.substeps == 4
+
+
+def test_unknown_key_is_an_error():
+    with pytest.raises(ConfigKeyError):
+        env_cfg_from_hydra(compose_rl(["+env.physics.warp_speed=9"]))
