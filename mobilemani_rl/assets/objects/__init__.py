@@ -1,11 +1,12 @@
 """Object registry: object id -> ObjectModel."""
 
+from mobilemani_rl.assets.objects.catalog import CATALOG, CATEGORIES, SPLITS, Task, catalog_ids, task_table
 from mobilemani_rl.assets.objects.categories import ALL_SKILLS, CATEGORY_PARAMS, ObjectKind, Place
 from mobilemani_rl.assets.objects.model import ObjectKinematics, ObjectModel
 from mobilemani_rl.assets.objects.test_objects import TEST_OBJECTS
 from mobilemani_rl.registry import UnknownNameError, check_choice, lookup
 
-OBJECTS: dict[str, ObjectModel] = dict(TEST_OBJECTS)
+OBJECTS: dict[str, ObjectModel] = {**TEST_OBJECTS, **CATALOG}
 
 
 def get_object(object_id: str) -> ObjectModel:
@@ -21,5 +22,5 @@ def check_skill(obj: ObjectModel, skill: str) -> str:
     return skill
 
 
-__all__ = ["CATEGORY_PARAMS", "OBJECTS", "ObjectKind", "ObjectKinematics", "ObjectModel", "Place", "check_skill",
-           "get_object"]
+__all__ = ["CATALOG", "CATEGORIES", "CATEGORY_PARAMS", "OBJECTS", "SPLITS", "ObjectKind", "ObjectKinematics",
+           "ObjectModel", "Place", "Task", "catalog_ids", "check_skill", "get_object", "task_table"]

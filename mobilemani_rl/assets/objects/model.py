@@ -9,7 +9,12 @@ from functools import cached_property
 import mujoco
 import numpy as np
 
-from mobilemani_rl.assets.objects.categories import CATEGORY_PARAMS, SKILLS_BY_KIND, CategoryParams, ObjectKind
+from mobilemani_rl.assets.objects.categories import (
+    CATEGORY_PARAMS,
+    SKILLS_BY_KIND,
+    CategoryParams,
+    ObjectKind,
+)
 
 GRASP_SITE = "grasp"
 ROOT_BODY = "object"
@@ -38,6 +43,7 @@ class ObjectModel:
     build_spec: Callable[[], mujoco.MjSpec]
     grasp_body: str
     joint: str | None = None
+    split: str | None = None  # "train" / "test" for catalog objects
 
     @property
     def params(self) -> CategoryParams:
