@@ -1,5 +1,7 @@
 """Offscreen head/wrist camera renderer over any MjModel + MjData (e.g. `env.batch.get_data(i)`).
 
+The data must have been through `mj_forward` (or a step): camera poses come from its `cam_xpos`/`cam_xmat`.
+
 Per camera: one `mjv_updateScene`, one shaded pass whose colour and depth buffers are both read back, and one
 segmentation pass (flat id colours, no lighting). Depth is returned as ray distance (see `depth.py`).
 """

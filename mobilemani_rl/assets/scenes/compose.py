@@ -154,7 +154,8 @@ def _build_indoor(
             (rng.uniform(0.7, 1.1), rng.uniform(0.8, 1.2), 0.003),
             materials.textured("speckle", palette.fabric, 3.0),
         )
-    decorate_walls(canvas, room, materials, rng, back_clear_above=float(hi[2]))
+    clear_above = opening.z1 if opening else float(hi[2])
+    decorate_walls(canvas, room, materials, rng, back_clear_above=clear_above)
     add_ceiling_lights(body, canvas, room, style, palette.lamp, rng)
 
 

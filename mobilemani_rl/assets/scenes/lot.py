@@ -82,10 +82,11 @@ def build_parking_lot(
     keep_out: list[Rect],
 ) -> None:
     """`half_width`: the object's half extent in x; `keep_out`: rectangles (room frame) nothing may enter."""
-    canvas.box(
-        (0, -8.0, -0.02), (16.0, 8.0, 0.02), materials.textured("speckle", (0.32, 0.32, 0.34, 1.0), 2.0)
-    )
-    canvas.box((0, 2.0, 0.07), (16.0, 2.0, 0.07), materials.textured("tiles", (0.72, 0.7, 0.66, 1.0), 1.5))
+    asphalt = (*(np.array([0.32, 0.32, 0.34]) * rng.uniform(0.6, 1.4)), 1.0)
+    canvas.box((0, -8.0, -0.02), (16.0, 8.0, 0.02), materials.textured("speckle", asphalt, 2.0))
+    paving = pick(rng, ((0.72, 0.7, 0.66, 1.0), (0.6, 0.45, 0.4, 1.0), (0.55, 0.57, 0.6, 1.0)))
+    pattern = str(pick(rng, ("tiles", "bricks")))
+    canvas.box((0, 2.0, 0.07), (16.0, 2.0, 0.07), materials.textured(pattern, paving, 1.5))
     canvas.box((0, 0.0, 0.08), (16.0, 0.08, 0.08), (0.8, 0.8, 0.78, 1.0))
     line = (0.92, 0.92, 0.88, 1.0)
     bay = max(BAY, 2 * half_width + 0.8)

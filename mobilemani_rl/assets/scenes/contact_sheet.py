@@ -1,0 +1,82 @@
+"""`MUJOCO_GL=egl python -m mobilemani_rl.assets scenes --out sheet.png`: head and wrist views, all scenes.
+
+Each setting gets the registry's objects of its categories in turn (test objects where a setting has none yet,
+placed with `check_setting=False`), posed at an episode start of the first skill the object supports.
+"""
+
+from __future__ import annotations
+
+import argparse
+import os
+from collections.abc import Sequence
+
+import numpy as np
+from PIL import Image, ImageDraw
+
+from mobilemani_rl.assets.objects import OBJECTS, ObjectModel, Place
+from mobilemani_rl.assets.scenes.placements import PLACEMENTS, Placement, setting_of
+from mobilemani_rl.assets.scenes.staging import realistic_env
+from mobilemani_rl.envs.config import EnvCfg, TaskCfg
+from mobilemani_rl.render import CameraRenderCfg, CameraRenderer
+
+FALLBACK_OBJECT = "test/box"
+PER_ROW = 5  # placements per row
+LABEL_HEIGHT = 14
+
+
+def objects_by_setting() -> dict[Place, list[ObjectModel]]:
+    found: dict[Place, list[ObjectModel]] = {place: [] for place in Place}
+    for obj in OBJECTS.values():
+        found[setting_of(obj)].append(obj)
+    return found
+
+
+def render_placement(placement: Placement, obj: ObjectModel, robot: str, size: int) -> np.ndarray:
+    """(size + label, 2 * size, 3): head view | wrist view, labelled."""
+    task = TaskCfg(robot=robot, object=obj.object_id, skill=obj.skills[0])
+    env = realistic_env(
+        EnvCfg(num_envs=1, seed=placement.index, task=task), placement.scene_id, check_setting=False
+    )
+    env.reset()
+    with CameraRenderer(env.model, CameraRenderCfg(width=size, height=size)) as renderer:
+        frames = renderer.render(env.batch.get_data(0))
+    tile = Image.new("RGB", (2 * size, size + LABEL_HEIGHT), (20, 20, 20))
+    tile.paste(Image.fromarray(frames["head_camera"].rgb), (0, LABEL_HEIGHT))
+    tile.paste(Image.fromarray(frames["wrist_camera"].rgb), (size, LABEL_HEIGHT))
+    label = f"{placement.scene_id} {placement.split} {placement.style} | {obj.object_id}"
+    ImageDraw.Draw(tile).text((3, 1), label, fill=(235, 235, 235))
+    return np.asarray(tile)
+
+
+def build_sheet(robot: str, size: int, scene_ids: Sequence[str] | None = None) -> np.ndarray:
+    choices = objects_by_setting()
+    fallback = OBJECTS[FALLBACK_OBJECT]
+    tiles = []
+    for scene_id in scene_ids or list(PLACEMENTS):
+        placement = PLACEMENTS[scene_id]
+        candidates = choices[placement.setting] or [fallback]
+        tiles.append(render_placement(placement, candidates[placement.index % len(candidates)], robot, size))
+    blank = np.zeros_like(tiles[0])
+    rows = []
+    for start in range(0, len(tiles), PER_ROW):
+        row = tiles[start : start + PER_ROW]
+        rows.append(np.concatenate(row + [blank] * (PER_ROW - len(row)), axis=1))
+    return np.concatenate(rows, axis=0)
+
+
+def main(argv: list[str] | None = None) -> None:
+    parser = argparse.ArgumentParser(prog="python -m mobilemani_rl.assets scenes", description=__doc__)
+    parser.add_argument("--out", required=True, help="PNG path to write")
+    parser.add_argument("--robot", default="g1")
+    parser.add_argument("--size", type=int, default=160, help="pixels per camera view")
+    parser.add_argument("--scenes", nargs="*", help="scene ids (default: all 100)")
+    args = parser.parse_args(argv)
+    sheet = build_sheet(args.robot, args.size, args.scenes)
+    tmp = f"{args.out}.tmp.png"
+    Image.fromarray(sheet).save(tmp)
+    os.replace(tmp, args.out)  # no half-written sheet left behind
+    print(f"wrote {args.out} ({sheet.shape[1]}x{sheet.shape[0]})")
+
+
+if __name__ == "__main__":
+    main()
