@@ -1,1 +1,1 @@
-"""placeholder"""
+"""MobileManiDataset: teacher rollouts -> raw HDF5 episodes -> rendered LeRobot v3 dataset."""

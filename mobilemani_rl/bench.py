@@ -5,7 +5,8 @@
 env: `MobileManiEnv.step` with random actions (IK, physics, observations, rewards, resets).
 raw: the same compiled model in a `mujoco.batch.Batch` of the same size and thread count, started from the
 env's states, stepped `substeps` times per control step with no Python work in between.
-Both report control steps per second (x substeps = physics steps per second). Prints a table and JSON.
+Both report control steps per second (x substeps = physics steps per second), best of interleaved trials.
+Prints a table and JSON.
 """
 
 from __future__ import annotations
@@ -23,20 +24,22 @@ from mobilemani_rl.envs.config import EnvCfg, TaskCfg
 from mobilemani_rl.envs.mobilemani_env import MobileManiEnv
 
 
-def _rate(step: Callable[[], None], n: int, seconds: float) -> float:
-    """Best control-steps/s over 3 trials of about seconds/3 each (after a warm-up)."""
-    for _ in range(5):
-        step()
-    best, calls = 0.0, 1
-    for _ in range(3):
-        start = time.perf_counter()
-        done = 0
-        while time.perf_counter() - start < seconds / 3:
-            for _ in range(calls):
+def _interleaved_rates(steps: dict[str, Callable[[], None]], n: int, seconds: float, trials: int = 6,
+                       ) -> dict[str, float]:
+    """Best control-steps/s of each stepper; trials alternate between steppers so that background load
+    drifts affect them alike."""
+    for step in steps.values():
+        for _ in range(5):
+            step()
+    best = dict.fromkeys(steps, 0.0)
+    budget = seconds / (trials * len(steps))
+    for _ in range(trials):
+        for name, step in steps.items():
+            start, done = time.perf_counter(), 0
+            while time.perf_counter() - start < budget:
                 step()
-            done += calls
-            calls = max(1, calls)
-        best = max(best, done * n / (time.perf_counter() - start))
+                done += 1
+            best[name] = max(best[name], done * n / (time.perf_counter() - start))
     return best
 
 
@@ -50,12 +53,12 @@ def bench_task(robot: str, num_envs: int, seconds: float, obj: str = "test/box",
     def env_step() -> None:
         env.step(actions[next(counter) % len(actions)])
 
-    env_rate = _rate(env_step, num_envs, seconds)
     raw = mujoco.batch.Batch(env.model, num_envs, nthread=env.cfg.physics.nthread)
     for field in ("qpos", "qvel", "ctrl", "mocap_pos", "mocap_quat"):
         raw.bind(field)[:] = env.batch.bind(field)
     substeps = env.cfg.physics.substeps
-    raw_rate = _rate(lambda: raw.step(nstep=substeps), num_envs, seconds)
+    rates = _interleaved_rates({"env": env_step, "raw": lambda: raw.step(nstep=substeps)}, num_envs, seconds)
+    env_rate, raw_rate = rates["env"], rates["raw"]
     return {
         "robot": robot, "num_envs": num_envs, "substeps": substeps, "timestep": env.model.opt.timestep,
         "env_steps_per_s": round(env_rate), "raw_steps_per_s": round(raw_rate),
@@ -67,7 +70,7 @@ def main(argv: list[str] | None = None) -> list[dict]:
     parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     parser.add_argument("--robots", nargs="+", default=["g1", "xhand"])
     parser.add_argument("--envs", nargs="+", type=int, default=[64, 256, 1024])
-    parser.add_argument("--seconds", type=float, default=3.0, help="timing budget per measurement")
+    parser.add_argument("--seconds", type=float, default=6.0, help="timing budget per (robot, envs) pair")
     args = parser.parse_args(argv)
     results = [bench_task(r, n, args.seconds) for r in args.robots for n in args.envs]
     print(f"{'robot':6} {'envs':>5} {'env steps/s':>12} {'raw steps/s':>12} {'env/raw':>8}")

@@ -1,1 +1,1 @@
-"""placeholder"""
+"""MobileManiVLA: PaliGemma/SigLIP backbone + cognition token + DiT action head."""
