@@ -150,7 +150,8 @@ def washing_machine(rng: np.random.Generator) -> Design:
             # Console along the back; the lid's hinge leaves room for the lid's edge to swing up past it.
             lid_t = 0.02
             add_part(root, BOX, (w / 2, panel_h / 2, 0.06), body_rgba, pos=(0, d / 2 - panel_h / 2, h + 0.06))
-            _knobs(root, [dial_x], d / 2 - panel_h, h + 0.06, 0.03, GLASS)
+            # The dial sits on top of the console: on its face it would be in the opening lid's way.
+            add_part(root, CYLINDER, (0.03, 0.01), GLASS, pos=(dial_x, d / 2 - panel_h / 2, h + 0.13))
             hinge_y = d / 2 - panel_h - lid_t - GAP
             depth = hinge_y + d / 2
             lid = add_lid(root, "lid", hinge_y=hinge_y, hinge_z=h + GAP, width=w - 0.01, depth=depth,

@@ -70,8 +70,8 @@ def hinge_range(rng: np.random.Generator, low_deg: float, high_deg: float) -> tu
 
 
 def add_shell(body: mujoco.MjsBody, size: Vec, wall: float, rgba: Rgba, *, open_side: str = "front",
-              z0: float = 0.0, y0: float = 0.0) -> None:
-    """A hollow box (carcass, tub, bin) centred on x = 0, y = y0, standing on z = z0, one face left open.
+              z0: float = 0.0, y0: float = 0.0, x0: float = 0.0) -> None:
+    """A hollow box (carcass, tub, bin) centred on x = x0, y = y0, standing on z = z0, one face left open.
 
     `open_side`: "front" (-y face missing: cabinets, ovens) or "top" (+z face missing: bins, drawers).
     """
@@ -87,7 +87,7 @@ def add_shell(body: mujoco.MjsBody, size: Vec, wall: float, rgba: Rgba, *, open_
     }
     for face, (half, pos) in faces.items():
         if face != open_side:
-            add_part(body, BOX, half, rgba, pos=(pos[0], pos[1] + y0, pos[2] + z0))
+            add_part(body, BOX, half, rgba, pos=(pos[0] + x0, pos[1] + y0, pos[2] + z0))
 
 
 def add_bar_handle(link: mujoco.MjsBody, center: Vec, length: float, radius: float, standoff: float,
@@ -281,9 +281,10 @@ HANDLE_SIZES = {"bar": (0.08, 0.2), "knob": (0.022, 0.03), "lever": (0.1, 0.14)}
 
 def sample_handle(rng: np.random.Generator, kinds: Sequence[str], *, length: tuple[float, float] | None = None,
                   standoff: tuple[float, float] = (0.04, 0.06), vertical: bool = False) -> Handle:
-    """Standoffs of 4-6 cm leave room for the fingers between the grip and the surface behind it."""
+    """Standoffs of 4-6 cm leave room for the fingers between the grip and the surface behind it. `length`
+    overrides the bar/lever length range (knobs keep their radius range)."""
     kind = choice(rng, kinds)
-    low, high = length or HANDLE_SIZES[kind]
+    low, high = length if length is not None and kind != "knob" else HANDLE_SIZES[kind]
     size = uniform(rng, low, high)
     radius = size if kind == "knob" else uniform(rng, 0.008, 0.013)
     return Handle(kind, size, radius, uniform(rng, *standoff), colour(rng, "metal"), vertical)

@@ -91,7 +91,7 @@ def table(rng: np.random.Generator) -> Design:
         housing_h = dh + 2 * wall
         z0 = leg_h - housing_h
         add_shell(root, (dw + 2 * wall, housing_d, housing_h), wall, frame_rgba, z0=z0,
-                  y0=apron_front + housing_d / 2)
+                  y0=apron_front + housing_d / 2, x0=x_off)
         inner = w / 2 - leg - 0.01
         for side in (-1, 1):
             edge = x_off + side * (dw / 2 + wall)
