@@ -1,4 +1,4 @@
-"""Camera renderer: ray-distance depth against a known plane, exact object/robot segmentation, image formats."""
+"""Camera renderer: ray-distance depth against a plane, exact object/robot segmentation, image formats."""
 
 import mujoco
 import numpy as np
@@ -42,7 +42,9 @@ def test_depth_conversions():
     near, far, z = 0.01, 50.0, np.array([0.01, 0.5, 3.0, 50.0])
     buffer = near * (far - z) / (z * (far - near))  # reversed-Z depth buffer
     np.testing.assert_allclose(z_depth_from_buffer(buffer, near, far), z, rtol=1e-5)
-    np.testing.assert_array_equal(depth_to_uint8(np.array([-1.0, 0.0, 2.5, 5.0, 9.0]), 5.0), [0, 0, 128, 255, 255])
+    np.testing.assert_array_equal(
+        depth_to_uint8(np.array([-1.0, 0.0, 2.5, 5.0, 9.0]), 5.0), [0, 0, 128, 255, 255]
+    )
 
 
 @pytest.fixture(scope="module")
@@ -58,7 +60,9 @@ def tabletop_env(request):
     patch = pytest.MonkeyPatch()
     patch.setattr(staging, "add_scene", add_scene_and_probe)
     try:
-        env = staging.realistic_env(EnvCfg(num_envs=1, seed=3, task=TaskCfg("g1", "test/box", "open")), "tabletop/02")
+        env = staging.realistic_env(
+            EnvCfg(num_envs=1, seed=3, task=TaskCfg("g1", "test/box", "open")), "tabletop/02"
+        )
     finally:
         patch.undo()
     env.reset()

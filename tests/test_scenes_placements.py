@@ -16,6 +16,7 @@ from mobilemani_rl.assets.scenes import (
     sample_room_offsets,
     scene_ids,
 )
+from mobilemani_rl.assets.scenes.contact_sheet import showcase_object
 from mobilemani_rl.assets.scenes.footprint import object_footprint
 from mobilemani_rl.envs.config import PhysicsCfg
 from mobilemani_rl.envs.scene import build_scene_spec
@@ -24,14 +25,13 @@ from mobilemani_rl.registry import UnknownNameError
 ROBOT_START = (np.array([-0.25, -1.5]), np.array([0.25, -0.75]))  # robot root xy range at reset
 BASE_RADIUS = 0.3
 ROBOT_HEIGHT = 2.0
-FALLBACK = "test/box"
 
 
 def decorated(scene_id: str, object_id: str) -> tuple[mujoco.MjModel, mujoco.MjData]:
     obj = get_object(object_id)
     spec = build_scene_spec(get_robot("g1"), obj, PhysicsCfg())
     placement = get_placement(scene_id)
-    add_scene(spec, placement, obj, check_setting=placement.setting is obj.params.place)
+    add_scene(spec, placement, obj)
     model = spec.compile()
     data = mujoco.MjData(model)
     mujoco.mj_kinematics(model, data)
@@ -39,10 +39,7 @@ def decorated(scene_id: str, object_id: str) -> tuple[mujoco.MjModel, mujoco.MjD
 
 
 def object_for(scene_id: str) -> str:
-    """An object of the scene's setting from the registry, else the fallback test object."""
-    setting = get_placement(scene_id).setting
-    fitting = sorted(oid for oid, obj in OBJECTS.items() if obj.params.place is setting)
-    return fitting[get_placement(scene_id).index % len(fitting)] if fitting else FALLBACK
+    return showcase_object(get_placement(scene_id)).object_id
 
 
 def room_geoms(model: mujoco.MjModel) -> np.ndarray:
@@ -53,7 +50,9 @@ def room_geoms(model: mujoco.MjModel) -> np.ndarray:
     return np.flatnonzero(inside[model.geom_bodyid])
 
 
-def world_boxes(model: mujoco.MjModel, data: mujoco.MjData, geoms: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+def world_boxes(
+    model: mujoco.MjModel, data: mujoco.MjData, geoms: np.ndarray
+) -> tuple[np.ndarray, np.ndarray]:
     corners = np.array([[sx, sy, sz] for sx in (-1, 1) for sy in (-1, 1) for sz in (-1, 1)], dtype=float)
     lo, hi = [], []
     for g in geoms:
@@ -71,8 +70,14 @@ def test_registry_has_16_train_and_4_test_scenes_per_setting():
     assert get_placement("tabletop/07").split == "train" and get_placement("door/17").split_index == 1
     heights = [p.support_height for p in PLACEMENTS.values() if p.setting is Place.TABLETOP]
     assert min(heights) >= 0.22 and max(heights) <= 0.76 and len(set(heights)) > 10
-    assert {p.style for p in PLACEMENTS.values()} == {"kitchen", "bedroom", "office", "hospital", "warehouse",
-                                                     "parking_lot"}
+    assert {p.style for p in PLACEMENTS.values()} == {
+        "kitchen",
+        "bedroom",
+        "office",
+        "hospital",
+        "warehouse",
+        "parking_lot",
+    }
 
 
 def test_unknown_scene_names_the_valid_ones():

@@ -27,7 +27,7 @@ class CameraFrame:
 
 
 def prepare_model(model: mujoco.MjModel, cfg: CameraRenderCfg) -> None:
-    """Visual settings the context is created from: buffer size, MSAA samples, clip planes in metres.
+    """Visual settings the context is created from: buffer size, MSAA, clip planes in metres, curve facets.
 
     They live on the model, so they also apply to any other renderer made from it afterwards.
     """
@@ -36,6 +36,8 @@ def prepare_model(model: mujoco.MjModel, cfg: CameraRenderCfg) -> None:
     model.vis.quality.offsamples = cfg.msaa_samples if cfg.multisampling else 0
     model.vis.map.znear = cfg.near / model.stat.extent
     model.vis.map.zfar = cfg.far / model.stat.extent
+    model.vis.quality.numslices = cfg.curve_slices
+    model.vis.quality.numstacks = max(2, cfg.curve_slices // 2)
 
 
 class CameraRenderer:

@@ -1,7 +1,7 @@
 """`MUJOCO_GL=egl python -m mobilemani_rl.assets scenes --out sheet.png`: head and wrist views, all scenes.
 
-Each setting gets the registry's objects of its categories in turn (test objects where a setting has none yet,
-placed with `check_setting=False`), posed at an episode start of the first skill the object supports.
+Each placement shows one registry object of its setting (categories in turn; a test object where a setting has
+none yet, placed with `check_setting=False`), posed at an episode start of the object's first skill.
 """
 
 from __future__ import annotations
@@ -13,7 +13,7 @@ from collections.abc import Sequence
 import numpy as np
 from PIL import Image, ImageDraw
 
-from mobilemani_rl.assets.objects import OBJECTS, ObjectModel, Place
+from mobilemani_rl.assets.objects import OBJECTS, ObjectModel
 from mobilemani_rl.assets.scenes.placements import PLACEMENTS, Placement, setting_of
 from mobilemani_rl.assets.scenes.staging import realistic_env
 from mobilemani_rl.envs.config import EnvCfg, TaskCfg
@@ -24,11 +24,18 @@ PER_ROW = 5  # placements per row
 LABEL_HEIGHT = 14
 
 
-def objects_by_setting() -> dict[Place, list[ObjectModel]]:
-    found: dict[Place, list[ObjectModel]] = {place: [] for place in Place}
+def showcase_object(placement: Placement) -> ObjectModel:
+    """An object for a placement: its setting's categories in turn, then that category's objects in turn."""
+    by_category: dict[str, list[ObjectModel]] = {}
     for obj in OBJECTS.values():
-        found[setting_of(obj)].append(obj)
-    return found
+        if setting_of(obj) is placement.setting and not obj.object_id.startswith("test/"):
+            by_category.setdefault(obj.category, []).append(obj)
+    if not by_category:
+        fitting = [obj for obj in OBJECTS.values() if setting_of(obj) is placement.setting]
+        return fitting[placement.index % len(fitting)] if fitting else OBJECTS[FALLBACK_OBJECT]
+    categories = sorted(by_category)
+    objects = by_category[categories[placement.index % len(categories)]]
+    return objects[(placement.index // len(categories)) % len(objects)]
 
 
 def render_placement(placement: Placement, obj: ObjectModel, robot: str, size: int) -> np.ndarray:
@@ -49,13 +56,10 @@ def render_placement(placement: Placement, obj: ObjectModel, robot: str, size: i
 
 
 def build_sheet(robot: str, size: int, scene_ids: Sequence[str] | None = None) -> np.ndarray:
-    choices = objects_by_setting()
-    fallback = OBJECTS[FALLBACK_OBJECT]
     tiles = []
     for scene_id in scene_ids or list(PLACEMENTS):
         placement = PLACEMENTS[scene_id]
-        candidates = choices[placement.setting] or [fallback]
-        tiles.append(render_placement(placement, candidates[placement.index % len(candidates)], robot, size))
+        tiles.append(render_placement(placement, showcase_object(placement), robot, size))
     blank = np.zeros_like(tiles[0])
     rows = []
     for start in range(0, len(tiles), PER_ROW):
@@ -64,18 +68,25 @@ def build_sheet(robot: str, size: int, scene_ids: Sequence[str] | None = None) -
     return np.concatenate(rows, axis=0)
 
 
-def main(argv: list[str] | None = None) -> None:
-    parser = argparse.ArgumentParser(prog="python -m mobilemani_rl.assets scenes", description=__doc__)
+def configure(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--out", required=True, help="PNG path to write")
     parser.add_argument("--robot", default="g1")
     parser.add_argument("--size", type=int, default=160, help="pixels per camera view")
     parser.add_argument("--scenes", nargs="*", help="scene ids (default: all 100)")
-    args = parser.parse_args(argv)
+
+
+def run(args: argparse.Namespace) -> None:
     sheet = build_sheet(args.robot, args.size, args.scenes)
     tmp = f"{args.out}.tmp.png"
     Image.fromarray(sheet).save(tmp)
     os.replace(tmp, args.out)  # no half-written sheet left behind
     print(f"wrote {args.out} ({sheet.shape[1]}x{sheet.shape[0]})")
+
+
+def main(argv: list[str] | None = None) -> None:
+    parser = argparse.ArgumentParser(prog="python -m mobilemani_rl.assets scenes", description=__doc__)
+    configure(parser)
+    run(parser.parse_args(argv))
 
 
 if __name__ == "__main__":
