@@ -37,6 +37,7 @@ class StepResult:
     success_flag: np.ndarray  # (n,) bool, latched success of the episode that ran this step (before resets)
     final_obs: np.ndarray  # (len(done_ids), obs_dim) last observation of each episode that ended this step
     done_ids: np.ndarray  # envs whose episode ended this step (they were reset; `obs` is their first one)
+    reward_terms: dict[str, np.ndarray]  # weighted reward terms per env
     log: dict[str, float | np.ndarray]
 
 
@@ -177,7 +178,7 @@ class MobileManiEnv:
         if done.size:
             self._reset_envs(done)
         self.obs = self._observe()
-        return StepResult(self.obs, reward, terminated, truncated, success_flag, final_obs, done, log)
+        return StepResult(self.obs, reward, terminated, truncated, success_flag, final_obs, done, weighted, log)
 
     def _observe(self, ids: np.ndarray | None = None) -> np.ndarray:
         if ids is None:

@@ -1,0 +1,104 @@
+"""Evaluate a PPO teacher checkpoint: success over N seeded episodes, reward breakdown, optional head-camera MP4s.
+
+    python -m mobilemani_rl.eval checkpoint=runs/rl/g1/test/box/open/model_1499.pt [episodes=256] [seed=1000]
+        [video_episodes=2]
+
+The task, env and PPO settings come from the run's saved config.yaml; all episodes run as one batch with the
+deterministic policy. Results are written next to the checkpoint as eval_<checkpoint>_<seed>.json.
+"""
+
+from __future__ import annotations
+
+import json
+import os
+from pathlib import Path
+
+import cv2
+import hydra
+import mujoco
+import numpy as np
+import torch
+from omegaconf import DictConfig, OmegaConf
+from tensordict import TensorDict
+
+from mobilemani_rl.envs.mobilemani_env import MobileManiEnv
+from mobilemani_rl.rl.run_dir import CONFIG, write_json_atomic
+from mobilemani_rl.rollout import run_first_episodes
+from mobilemani_rl.train import build_runner
+
+VIDEO_SIZE = 320
+
+
+class TeacherPolicy:
+    """Deterministic actor of a trained runner, reading the env's current observation."""
+
+    def __init__(self, env: MobileManiEnv, actor: torch.nn.Module) -> None:
+        self.env, self.actor = env, actor
+
+    @torch.inference_mode()
+    def __call__(self) -> np.ndarray:
+        obs = TensorDict({"policy": torch.from_numpy(self.env.obs)}, batch_size=[self.env.num_envs])
+        return self.actor(obs).numpy()
+
+
+class HeadCameraRecorder:
+    """Collects head-camera frames of the first k envs while their first episode runs."""
+
+    def __init__(self, env: MobileManiEnv, episodes: int) -> None:
+        self.env, self.ids = env, list(range(min(episodes, env.num_envs)))
+        self.renderer = mujoco.Renderer(env.model, VIDEO_SIZE, VIDEO_SIZE)
+        self.frames: dict[int, list[np.ndarray]] = {i: [] for i in self.ids}
+        self.finished: set[int] = set()
+
+    def __call__(self, result) -> None:
+        for i in self.ids:
+            if i in self.finished:
+                continue
+            self.renderer.update_scene(self.env.batch.get_data(i), camera=self.env.robot.head_camera)
+            self.frames[i].append(self.renderer.render())
+            if i in result.done_ids:
+                self.finished.add(i)
+
+    def write(self, directory: Path) -> list[str]:
+        directory.mkdir(parents=True, exist_ok=True)
+        paths = []
+        for i, frames in self.frames.items():
+            path = directory / f"episode_{i:03d}.mp4"
+            tmp = path.with_name(path.stem + ".tmp.mp4")
+            writer = cv2.VideoWriter(str(tmp), cv2.VideoWriter_fourcc(*"mp4v"), 30, (VIDEO_SIZE, VIDEO_SIZE))
+            for frame in frames:
+                writer.write(cv2.cvtColor(frame, cv2.COLOR_RGB2BGR))
+            writer.release()
+            os.replace(tmp, path)
+            paths.append(str(path))
+        return paths
+
+
+def evaluate(checkpoint: Path, episodes: int, seed: int, video_episodes: int = 0) -> dict:
+    if not checkpoint.is_file():
+        raise FileNotFoundError(f"checkpoint {checkpoint} does not exist")
+    run_cfg = OmegaConf.load(checkpoint.parent / CONFIG)
+    run_cfg.logger = "tensorboard"
+    runner = build_runner(run_cfg, run_dir=None, num_envs=episodes)
+    runner.load(str(checkpoint))
+    env: MobileManiEnv = runner.env.env
+    recorder = HeadCameraRecorder(env, video_episodes) if video_episodes else None
+    stats = run_first_episodes(env, TeacherPolicy(env, runner.get_inference_policy()), seed=seed, on_step=recorder)
+    result = {"checkpoint": str(checkpoint), "seed": seed, "task": OmegaConf.to_container(run_cfg.task),
+              **stats.summary()}
+    if recorder is not None:
+        result["videos"] = recorder.write(checkpoint.parent / f"eval_videos_{checkpoint.stem}")
+    write_json_atomic(checkpoint.parent / f"eval_{checkpoint.stem}_{seed}.json", result)
+    return result
+
+
+@hydra.main(config_path="../conf", config_name="eval_rl", version_base="1.3")
+def main(cfg: DictConfig) -> None:
+    if cfg.checkpoint is None:
+        raise SystemExit("checkpoint=<path to a model_*.pt> is required")
+    result = evaluate(Path(cfg.checkpoint), cfg.episodes, cfg.seed, cfg.video_episodes)
+    print(json.dumps(result, indent=2))
+
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,1 @@
+"""PPO teacher training on rsl-rl: configs, runner, run directories."""

@@ -1,0 +1,67 @@
+"""PPO settings (mirrored by conf/rl/ppo/*.yaml) and their translation into rsl-rl-lib 5's config dict."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+
+@dataclass
+class PpoCfg:
+    """Defaults are the reference's (reference §7), i.e. conf/rl/ppo/paper.yaml."""
+
+    num_envs: int = 1024
+    num_steps_per_env: int = 16
+    max_iterations: int = 4000
+    save_interval: int = 100  # reference: 4000 (end only); more often here so an interrupted run resumes
+    learning_rate: float = 1e-3
+    schedule: str = "adaptive"
+    desired_kl: float = 0.008
+    num_learning_epochs: int = 8
+    num_mini_batches: int = 8
+    gamma: float = 0.99
+    lam: float = 0.95
+    clip_param: float = 0.2
+    value_loss_coef: float = 1.0
+    use_clipped_value_loss: bool = True
+    entropy_coef: float = 0.0
+    max_grad_norm: float = 1.0
+    normalize_advantage_per_mini_batch: bool = False
+    actor_hidden_dims: list[int] = field(default_factory=lambda: [1024, 1024, 512, 512])
+    critic_hidden_dims: list[int] = field(default_factory=lambda: [1024, 1024, 512, 512])
+    activation: str = "elu"
+    init_noise_std: float = 1.0
+    obs_normalization: bool = True  # reference: empirical_normalization
+    init_at_random_ep_len: bool = True
+    seed: int = 42
+    torch_threads: int = 0  # 0: torch's default
+
+
+def rsl_rl_train_cfg(ppo: PpoCfg, logger: dict | str, run_name: str) -> dict:
+    """The `train_cfg` dict OnPolicyRunner expects (rsl-rl-lib 5.x: separate actor and critic models)."""
+
+    def model(hidden: list[int], distribution: bool) -> dict:
+        cfg = {"class_name": "MLPModel", "hidden_dims": list(hidden), "activation": ppo.activation,
+               "obs_normalization": ppo.obs_normalization}
+        if distribution:
+            cfg["distribution_cfg"] = {"class_name": "GaussianDistribution", "init_std": ppo.init_noise_std,
+                                       "std_type": "scalar"}
+        return cfg
+
+    return {
+        "num_steps_per_env": ppo.num_steps_per_env,
+        "save_interval": ppo.save_interval,
+        "obs_groups": {"actor": ["policy"], "critic": ["policy"]},  # no asymmetric critic (reference §4)
+        "algorithm": {
+            "class_name": "PPO", "learning_rate": ppo.learning_rate, "schedule": ppo.schedule,
+            "desired_kl": ppo.desired_kl, "num_learning_epochs": ppo.num_learning_epochs,
+            "num_mini_batches": ppo.num_mini_batches, "gamma": ppo.gamma, "lam": ppo.lam,
+            "clip_param": ppo.clip_param, "value_loss_coef": ppo.value_loss_coef,
+            "use_clipped_value_loss": ppo.use_clipped_value_loss, "entropy_coef": ppo.entropy_coef,
+            "max_grad_norm": ppo.max_grad_norm,
+            "normalize_advantage_per_mini_batch": ppo.normalize_advantage_per_mini_batch,
+        },
+        "actor": model(ppo.actor_hidden_dims, distribution=True),
+        "critic": model(ppo.critic_hidden_dims, distribution=False),
+        "logger": logger,
+        "run_name": run_name,
+    }

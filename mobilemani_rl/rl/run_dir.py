@@ -1,0 +1,53 @@
+"""A training run's directory: its config, checkpoints, curve and completion marker.
+
+A run directory is complete only once `result.json` exists (written atomically last), so an interrupted run
+never looks finished; rerunning resumes from the newest checkpoint with the saved config.
+"""
+
+from __future__ import annotations
+
+import json
+import os
+import re
+from pathlib import Path
+
+from omegaconf import DictConfig, OmegaConf
+
+CONFIG = "config.yaml"
+RESULT = "result.json"
+CURVE = "curve.json"
+_CHECKPOINT = re.compile(r"model_(\d+)\.pt$")
+
+
+class ConfigMismatchError(ValueError):
+    """Resuming a run with a config that differs from the one it was started with."""
+
+
+def latest_checkpoint(run_dir: Path) -> Path | None:
+    found = [(int(m.group(1)), p) for p in run_dir.glob("model_*.pt") if (m := _CHECKPOINT.search(p.name))]
+    return max(found)[1] if found else None
+
+
+def is_complete(run_dir: Path) -> bool:
+    return (run_dir / RESULT).exists()
+
+
+def write_json_atomic(path: Path, payload: dict | list) -> None:
+    tmp = path.with_suffix(path.suffix + ".tmp")
+    tmp.write_text(json.dumps(payload, indent=2))
+    os.replace(tmp, path)
+
+
+def save_or_check_config(run_dir: Path, cfg: DictConfig, keys: tuple[str, ...]) -> None:
+    """Store the config of a new run; for an existing run, require the same values under `keys`."""
+    path = run_dir / CONFIG
+    current = OmegaConf.masked_copy(cfg, list(keys))
+    if not path.exists():
+        run_dir.mkdir(parents=True, exist_ok=True)
+        OmegaConf.save(current, path)
+        return
+    saved = OmegaConf.load(path)
+    differing = [k for k in keys if OmegaConf.to_container(saved.get(k)) != OmegaConf.to_container(current.get(k))]
+    if differing:
+        raise ConfigMismatchError(f"{run_dir} was started with a different {', '.join(differing)} config; "
+                                  f"resume with the saved {path} or choose another run_dir")

@@ -1,0 +1,62 @@
+"""rsl-rl's OnPolicyRunner with atomic checkpoints and a one-line progress bar instead of the console block."""
+
+from __future__ import annotations
+
+import contextlib
+import io
+import os
+
+import numpy as np
+import torch
+from rsl_rl.runners import OnPolicyRunner
+from rsl_rl.utils.logger import Logger
+from tqdm import tqdm
+
+SUCCESS_KEY = "/episode/success_flag"
+
+
+class ProgressLogger(Logger):
+    """Writes every metric as rsl-rl does (TensorBoard / W&B) but shows a tqdm bar with the success rate.
+
+    It also keeps the per-iteration training curve (samples, success, reward) for plots.
+    """
+
+    def __init__(self, *args, total_iterations: int, **kwargs) -> None:
+        super().__init__(*args, **kwargs)
+        self.total_iterations = total_iterations
+        self.bar: tqdm | None = None
+        self.curve: list[dict[str, float]] = []
+
+    def log(self, it: int, *args, **kwargs) -> None:
+        if self.bar is None:
+            self.bar = tqdm(total=self.total_iterations, initial=it, desc="PPO", unit="it", dynamic_ncols=True)
+        success = _episode_mean(self.ep_extras, SUCCESS_KEY)
+        with contextlib.redirect_stdout(io.StringIO()):  # rsl-rl prints a 30-line block per iteration
+            super().log(it, *args, **kwargs)
+        reward = float(np.mean(self.rewbuffer)) if self.rewbuffer else float("nan")
+        self.curve.append({"iteration": it, "samples": self.tot_timesteps, "seconds": self.tot_time,
+                           "success": success, "reward": reward})
+        self.bar.n = it + 1
+        self.bar.set_postfix(success=f"{success:.2f}", reward=f"{reward:.1f}",
+                             sps=f"{self.tot_timesteps / max(self.tot_time, 1e-9):.0f}")
+        self.bar.refresh()
+
+
+def _episode_mean(extras: list[dict], key: str) -> float:
+    values = [torch.as_tensor(e[key]).flatten() for e in extras if key in e]
+    return float(torch.cat(values).float().mean()) if values else float("nan")
+
+
+class MobileManiRunner(OnPolicyRunner):
+    def __init__(self, env, train_cfg: dict, log_dir: str | None, total_iterations: int) -> None:
+        with contextlib.redirect_stdout(io.StringIO()):  # model summaries
+            super().__init__(env, train_cfg, log_dir=log_dir, device="cpu")
+        self.logger = ProgressLogger(log_dir=log_dir, cfg=self.cfg, env_cfg=env.cfg, num_envs=env.num_envs,
+                                     is_distributed=False, gpu_world_size=1, gpu_global_rank=0, device="cpu",
+                                     total_iterations=total_iterations)
+
+    def save(self, path: str, infos: dict | None = None) -> None:
+        """Write to a temporary file, then rename: a killed run never leaves a truncated checkpoint."""
+        tmp = f"{path}.tmp"
+        super().save(tmp, infos)
+        os.replace(tmp, path)
