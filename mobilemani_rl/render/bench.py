@@ -2,7 +2,8 @@
 
 Per size: frames/s of `CameraRenderer` producing 2 cameras x (RGB + depth + segmentation), and the raw
 `mujoco.Renderer` rate (`update_scene` + `render`, RGB only, one camera) on the same model, state, size and
-settings (shadows and MSAA off unless asked), measured alternately in the same run. Prints JSON and a table.
+settings (shadows and MSAA off unless asked), timed in alternating slices in the same run. Prints JSON and
+a table.
 """
 
 from __future__ import annotations
@@ -20,14 +21,19 @@ from mobilemani_rl.render.config import CameraRenderCfg
 from mobilemani_rl.render.renderer import CameraRenderer
 
 
-def rate(call: Callable[[], object], seconds: float) -> float:
-    """Calls per second over at least `seconds` (after one warm-up call)."""
-    call()
-    count, start = 0, time.perf_counter()
-    while (elapsed := time.perf_counter() - start) < seconds:
+def interleaved_rates(calls: list[Callable[[], object]], seconds: float, rounds: int = 10) -> list[float]:
+    """Calls per second of each callable, timed in alternating slices so load changes hit all alike."""
+    for call in calls:  # warm-up
         call()
-        count += 1
-    return count / elapsed
+    counts, times = [0] * len(calls), [0.0] * len(calls)
+    for _ in range(rounds):
+        for k, call in enumerate(calls):
+            start = time.perf_counter()
+            while (elapsed := time.perf_counter() - start) < seconds / rounds:
+                call()
+                counts[k] += 1
+            times[k] += elapsed
+    return [c / t for c, t in zip(counts, times, strict=True)]
 
 
 def bench_size(model: mujoco.MjModel, data: mujoco.MjData, cfg: CameraRenderCfg, seconds: float) -> dict:
@@ -41,8 +47,7 @@ def bench_size(model: mujoco.MjModel, data: mujoco.MjData, cfg: CameraRenderCfg,
         raw.render()
 
     try:
-        ours = rate(lambda: renderer.render(data), seconds)
-        baseline = rate(raw_rgb, seconds)
+        ours, baseline = interleaved_rates([lambda: renderer.render(data), raw_rgb], seconds)
     finally:
         renderer.close()
         raw.close()
