@@ -5,8 +5,11 @@ from __future__ import annotations
 import mujoco
 import numpy as np
 
+from mobilemani_rl.assets.objects.model import ROOT_BODY
+from mobilemani_rl.envs.scene import OBJECT_PREFIX
+
 LABEL_BACKGROUND, LABEL_OBJECT, LABEL_ROBOT = 0, 1, 2
-OBJECT_ROOT = "obj/object"  # scene prefix + the object's root body
+OBJECT_ROOT = OBJECT_PREFIX + ROOT_BODY
 ROBOT_ROOT = "Root"  # the robot's mocap root
 
 
