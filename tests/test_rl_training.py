@@ -1,0 +1,74 @@
+"""PPO teacher training with the tiny preset: checkpoints load and evaluate, runs resume after a kill."""
+
+import json
+import os
+import signal
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+import pytest
+from hydra import compose, initialize_config_dir
+
+from mobilemani_rl.eval import evaluate
+from mobilemani_rl.rl.run_dir import ConfigMismatchError, latest_checkpoint
+from mobilemani_rl.train import train
+
+ROOT = Path(__file__).resolve().parents[1]
+
+
+def compose_rl(overrides: list[str]):
+    with initialize_config_dir(config_dir=str(ROOT / "conf"), version_base="1.3"):
+        return compose(config_name="rl", overrides=overrides)
+
+
+def test_tiny_training_checkpoint_loads_and_evaluates(tmp_path):
+    run_dir = tmp_path / "run"
+    train(compose_rl(["rl/ppo=tiny", f"run_dir={run_dir}"]))
+    assert (run_dir / "result.json").exists() and (run_dir / "config.yaml").exists()
+    curve = json.loads((run_dir / "curve.json").read_text())
+    assert [point["iteration"] for point in curve] == [0, 1, 2]
+    checkpoint = latest_checkpoint(run_dir)
+    assert checkpoint.name == "model_2.pt"
+    result = evaluate(checkpoint, episodes=4, seed=3)
+    assert result["episodes"] == 4 and 0.0 <= result["success_rate"] <= 1.0
+    assert result["reward_terms"]["diff_hand_object"] < 0.0
+    assert (run_dir / "eval_model_2_3.json").exists()
+    # A finished run is left alone.
+    before = sorted(p.name for p in run_dir.iterdir())
+    train(compose_rl(["rl/ppo=tiny", f"run_dir={run_dir}"]))
+    assert sorted(p.name for p in run_dir.iterdir()) == before
+
+
+def test_resume_with_another_config_is_refused(tmp_path):
+    run_dir = tmp_path / "run"
+    (run_dir).mkdir()
+    train(compose_rl(["rl/ppo=tiny", f"run_dir={run_dir}", "rl.ppo.max_iterations=1"]))
+    (run_dir / "result.json").unlink()  # pretend it was interrupted
+    with pytest.raises(ConfigMismatchError, match="different rl config"):
+        train(compose_rl(["rl/ppo=tiny", f"run_dir={run_dir}", "rl.ppo.max_iterations=1",
+                          "rl.ppo.learning_rate=0.1"]))
+
+
+def test_killed_training_resumes_from_last_checkpoint(tmp_path):
+    run_dir = tmp_path / "run"
+    command = [sys.executable, "-m", "mobilemani_rl.train", "rl/ppo=tiny", f"run_dir={run_dir}",
+               "rl.ppo.max_iterations=8", "rl.ppo.num_steps_per_env=32"]
+    env = {**os.environ, "PYTHONPATH": str(ROOT)}
+    proc = subprocess.Popen(command, cwd=ROOT, env=env, stdout=subprocess.PIPE, stderr=subprocess.STDOUT)
+    deadline = time.time() + 120
+    while (run_dir / "model_2.pt").exists() is False and time.time() < deadline and proc.poll() is None:
+        time.sleep(0.1)
+    proc.send_signal(signal.SIGKILL)
+    proc.wait()
+    assert (run_dir / "model_2.pt").exists() and not (run_dir / "result.json").exists()
+    assert not list(run_dir.glob("*.tmp"))
+    killed_at = latest_checkpoint(run_dir)
+    done = subprocess.run(command, cwd=ROOT, env=env, capture_output=True, text=True, timeout=300)
+    assert done.returncode == 0, done.stderr[-2000:]
+    start = int(killed_at.stem.split("_")[1]) + 1
+    assert f"resuming {run_dir} from {killed_at.name} (iteration {start} of 8)" in done.stdout
+    assert latest_checkpoint(run_dir).name == "model_7.pt" and (run_dir / "result.json").exists()
+    curve = json.loads((run_dir / "curve.json").read_text())
+    assert curve[-1]["iteration"] == 7
