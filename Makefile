@@ -12,7 +12,7 @@ PYTHON312 ?= $(shell for c in python3.12 $$(pyenv root 2>/dev/null)/versions/3.1
 
 ROBOT ?= g1
 
-.PHONY: setup test test-slow lint bench bench-sim clean-venv
+.PHONY: setup test test-slow lint bench bench-sim clean-venv vla bench-vla
 
 setup: $(VENV)/.installed
 
@@ -38,6 +38,13 @@ bench: bench-sim
 
 bench-sim: setup
 	$(PY) -m mobilemani_rl.bench
+
+# VLA training (Hydra root conf/vla.yaml): make vla ROBOT=g1 [EXPERIMENT=ablation_image_head_rgb]
+vla: setup
+	$(PY) -m mobilemani_vla.train robot=$(ROBOT) $(if $(EXPERIMENT),+experiment=$(EXPERIMENT))
+
+bench-vla: setup
+	$(PY) -m mobilemani_vla.bench
 
 clean-venv:
 	rm -rf $(VENV)

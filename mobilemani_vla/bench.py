@@ -1,0 +1,112 @@
+"""Training throughput and inference latency of MobileManiVLA at the project's model sizes.
+
+    python -m mobilemani_vla.bench [--models tiny small] [--batch 8] [--steps 5] [--runs 5] [--cameras 4]
+
+train: samples/s of one optimisation step (backbone + DiT forward/backward with r repeated diffusion steps,
+AdamW), on synthetic batches so that video decoding is not measured. infer: seconds per action chunk for one
+observation (backbone pass + 10 DDIM steps, guidance on). Best of the timed repeats, after one warm-up.
+Also counts the parameters of every model config (paligemma2_3b on the meta device, no weights).
+Prints a table and JSON.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import time
+from collections.abc import Callable
+from pathlib import Path
+
+import torch
+from hydra import compose, initialize_config_dir
+
+from mobilemani_vla.config import CAMERAS, VLACfg, vla_cfg_from_hydra
+from mobilemani_vla.model import MobileManiVLA, build_model
+from mobilemani_vla.tokenizer import build_word_tokenizer
+
+CONF = str(Path(__file__).resolve().parents[1] / "conf")
+
+
+def compose_cfg(overrides: list[str]) -> VLACfg:
+    with initialize_config_dir(config_dir=CONF, version_base="1.3"):
+        return vla_cfg_from_hydra(compose(config_name="vla", overrides=overrides))
+
+
+def parameter_counts(model: MobileManiVLA) -> dict[str, int]:
+    count = lambda m: sum(p.numel() for p in m.parameters())  # noqa: E731
+    return {"backbone": count(model.backbone), "dit": count(model.head.dit),
+            "state_encoder": 0 if model.state_encoder is None else count(model.state_encoder),
+            "total": count(model)}
+
+
+def synthetic_batch(model: MobileManiVLA, cfg: VLACfg, batch: int) -> dict[str, torch.Tensor]:
+    size = model.backbone.image_size
+    tokenizer = build_word_tokenizer()
+    enc = tokenizer([cfg.model.prompt.format(instruction="open washing machine")] * batch, return_tensors="pt")
+    return {"pixel_values": torch.rand(batch, len(cfg.inputs.cameras), 3, size, size),
+            "input_ids": enc["input_ids"], "attention_mask": enc["attention_mask"],
+            "state": torch.rand(batch, 6) * 2 - 1,
+            "actions": torch.rand(batch, cfg.diffusion.chunk, cfg.action_dim) * 2 - 1}
+
+
+def best_seconds(fn: Callable[[], None], runs: int) -> float:
+    fn()
+    times = []
+    for _ in range(runs):
+        start = time.perf_counter()
+        fn()
+        times.append(time.perf_counter() - start)
+    return min(times)
+
+
+def bench(name: str, batch: int, steps: int, runs: int, cameras: int) -> dict:
+    cfg = compose_cfg([f"vla/model={name}", f"inputs.cameras=[{','.join(CAMERAS[:cameras])}]"])
+    torch.manual_seed(0)
+    model = build_model(cfg, build_word_tokenizer())
+    data = synthetic_batch(model, cfg, batch)
+    optimizer = torch.optim.AdamW(model.parameters(), lr=cfg.train.lr)
+
+    def train_step() -> None:
+        model.train()
+        model(data).backward()
+        optimizer.step()
+        optimizer.zero_grad(set_to_none=True)
+
+    one = {k: v[:1] for k, v in data.items() if k != "actions"}
+    model.eval()
+    infer = best_seconds(lambda: model.predict(one), runs)
+    train = best_seconds(train_step, steps)
+    return {"model": name, "image_size": model.backbone.image_size, "cameras": cameras,
+            "image_tokens": cameras * model.backbone.tokens_per_image, "dit": cfg.model.dit,
+            "params": parameter_counts(model), "train_batch": batch,
+            "train_samples_per_s": batch / train, "infer_s_per_chunk": infer,
+            "ddim_steps": cfg.diffusion.ddim_steps, "threads": torch.get_num_threads()}
+
+
+def meta_counts() -> dict:
+    cfg = compose_cfg(["vla/model=paligemma2_3b", "model.pretrained_path=null", "model.tokenizer_path=null"])
+    with torch.device("meta"):
+        model = build_model(cfg, build_word_tokenizer())
+    return {"model": "paligemma2_3b", "device": "meta", "params": parameter_counts(model)}
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--models", nargs="+", default=["tiny", "small"])
+    parser.add_argument("--batch", type=int, default=8)
+    parser.add_argument("--steps", type=int, default=3, help="timed training steps per model")
+    parser.add_argument("--runs", type=int, default=3, help="timed inference calls per model")
+    parser.add_argument("--cameras", type=int, default=4, choices=range(1, 5))
+    args = parser.parse_args()
+    results = [bench(m, args.batch, args.steps, args.runs, args.cameras) for m in args.models]
+    big = meta_counts()
+    print(f"{'model':<14}{'img tok':>8}{'dit':>4}{'params (M)':>12}{'train samples/s':>17}{'infer s/chunk':>15}")
+    for r in results:
+        print(f"{r['model']:<14}{r['image_tokens']:>8}{r['dit']:>4}{r['params']['total'] / 1e6:>12.2f}"
+              f"{r['train_samples_per_s']:>17.2f}{r['infer_s_per_chunk']:>15.3f}")
+    print(f"{big['model']:<14}{'':>8}{'B':>4}{big['params']['total'] / 1e6:>12.1f}{'(meta, not run)':>32}")
+    print(json.dumps({"cpu": results, "meta": big}, indent=1))
+
+
+if __name__ == "__main__":
+    main()

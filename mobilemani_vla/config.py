@@ -1,0 +1,149 @@
+"""Dataclass configs of MobileManiVLA, mirrored one-to-one by the Hydra tree under conf/ (root conf/vla.yaml)."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+from omegaconf import DictConfig, OmegaConf
+
+from mobilemani_vla.dit import DIT_PRESETS
+
+ROBOT_ACTION_DIMS = {"g1": 7, "xhand": 18}  # 6 wrist deltas + 1 gripper / 12 hand joints
+CAMERAS = ("head_rgb", "head_depth", "wrist_rgb", "wrist_depth")
+STATES = ("wrist_pose", "grasp_point", "goal_point")
+
+
+@dataclass
+class VisionCfg:
+    """SigLIP vision tower (used when the backbone is built from this config rather than loaded)."""
+
+    hidden_size: int = 32
+    intermediate_size: int = 64
+    num_hidden_layers: int = 2
+    num_attention_heads: int = 2
+    image_size: int = 32
+    patch_size: int = 8
+
+
+@dataclass
+class TextCfg:
+    """Gemma-2 language model (used when the backbone is built from this config rather than loaded)."""
+
+    vocab_size: int = 128
+    hidden_size: int = 64
+    intermediate_size: int = 128
+    num_hidden_layers: int = 2
+    num_attention_heads: int = 2
+    num_key_value_heads: int = 1
+    head_dim: int = 32
+    sliding_window: int = 4096
+    query_pre_attn_scalar: int = 32
+
+
+@dataclass
+class ModelCfg:
+    name: str = "tiny"
+    # Local PaliGemma directory (config.json + safetensors); null builds the backbone from `vision`/`text`.
+    pretrained_path: str | None = None
+    # Local tokenizer directory; null builds the project's word-level tokenizer (tiny/small configs).
+    tokenizer_path: str | None = None
+    vision: VisionCfg = field(default_factory=VisionCfg)
+    text: TextCfg = field(default_factory=TextCfg)
+    attn_implementation: str | None = None  # transformers' choice when null (eager for Gemma-2)
+    dit: str = "Ti"  # DiT size: CogACT's S, B or L, or Ti for CPU tests
+    prompt: str = "What action should the robot take to {instruction}?"
+
+
+@dataclass
+class InputsCfg:
+    """Which observations the policy sees (the paper's ablation axes)."""
+
+    cameras: list[str] = field(default_factory=lambda: list(CAMERAS))
+    states: list[str] = field(default_factory=lambda: ["wrist_pose"])
+
+
+@dataclass
+class DiffusionCfg:
+    chunk: int = 16
+    train_timesteps: int = 100
+    beta_schedule: str = "squaredcos_cap_v2"
+    repeated_steps: int = 4  # CogACT's effective default: r noise draws per backbone pass
+    cfg_dropout: float = 0.1  # 0 disables classifier-free guidance (no null embedding)
+    cfg_scale: float = 1.5
+    ddim_steps: int = 10
+
+
+@dataclass
+class DataCfg:
+    root: str = "data/lerobot/g1"
+    repo_id: str = "mobilemani/g1"
+    episodes: list[int] | None = None
+    video_backend: str = "pyav"
+    num_workers: int = 0
+
+
+@dataclass
+class TrainCfg:
+    batch_size: int = 8  # global batch, split over processes
+    steps: int = 1000
+    lr: float = 2e-5
+    weight_decay: float = 0.0
+    grad_clip: float = 1.0
+    mixed_precision: str = "no"  # "bf16" on GPUs
+    gradient_checkpointing: bool = False
+    log_every: int = 10
+    save_every: int = 500
+    keep_checkpoints: int = 2
+    resume: bool = True  # continue from the newest checkpoint in output_dir
+    logger: str = "wandb"  # "wandb" (offline unless WANDB_MODE says otherwise) or "none"
+    progress: bool = True
+    seed: int = 0
+    output_dir: str = "outputs/vla/g1/default/tiny"
+
+
+@dataclass
+class VLACfg:
+    robot: str = "g1"
+    name: str = "default"
+    model: ModelCfg = field(default_factory=ModelCfg)
+    inputs: InputsCfg = field(default_factory=InputsCfg)
+    diffusion: DiffusionCfg = field(default_factory=DiffusionCfg)
+    data: DataCfg = field(default_factory=DataCfg)
+    train: TrainCfg = field(default_factory=TrainCfg)
+
+    @property
+    def action_dim(self) -> int:
+        return ROBOT_ACTION_DIMS[self.robot]
+
+    def validate(self) -> VLACfg:
+        """Stop with one message naming the valid choices."""
+        _choices("robot", [self.robot], ROBOT_ACTION_DIMS)
+        _choices("inputs.cameras", self.inputs.cameras, CAMERAS)
+        _choices("inputs.states", self.inputs.states, STATES)
+        _choices("model.dit", [self.model.dit], DIT_PRESETS)
+        if not self.inputs.cameras:
+            raise ValueError(f"inputs.cameras must name at least one of {list(CAMERAS)}")
+        return self
+
+
+def _choices(kind: str, values: list[str], valid) -> None:
+    bad = [v for v in values if v not in valid]
+    if bad or len(set(values)) != len(values):
+        raise ValueError(f"invalid {kind} {values}: each must be one of {list(valid)}, without repeats")
+
+
+def vla_cfg_from_hydra(cfg: DictConfig) -> VLACfg:
+    """Composed Hydra config -> VLACfg; unknown keys are errors (the dataclass is the schema)."""
+    container = OmegaConf.to_container(cfg, resolve=True)
+    container.pop("hydra", None)
+    container.pop("task", None)  # the shared robot group's block; `robot` already holds its name
+    merged = OmegaConf.merge(OmegaConf.structured(VLACfg), container)
+    return OmegaConf.to_object(merged).validate()
+
+
+def vla_cfg_from_yaml(text: str) -> VLACfg:
+    return OmegaConf.to_object(OmegaConf.merge(OmegaConf.structured(VLACfg), OmegaConf.create(text))).validate()
+
+
+def vla_cfg_to_yaml(cfg: VLACfg) -> str:
+    return OmegaConf.to_yaml(OmegaConf.structured(cfg))

@@ -1,0 +1,79 @@
+"""Turns LeRobot frames (or live observations shaped like them) into model batches.
+
+One code path for training and inference: cameras resized to the backbone's image size, state inputs
+normalised and concatenated, prompts tokenised (left-padded), action chunks normalised with padding handled.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import torch
+import torch.nn.functional as F
+from transformers import PreTrainedTokenizerBase
+
+from mobilemani_data import schema
+from mobilemani_vla.normalizer import QuantileNormalizer
+
+STATE_KEYS = {"wrist_pose": schema.WRIST_POSE_BASE, "grasp_point": schema.GRASP_POINT_BASE,
+              "goal_point": schema.GOAL_POINT_BASE}
+STATE_DIMS = {"wrist_pose": 6, "grasp_point": 3, "goal_point": 3}
+WRIST_DELTA_DIMS = 6  # action[0:6] are wrist deltas; action[6:] absolute gripper/hand targets
+
+
+def camera_key(camera: str) -> str:
+    """'head_rgb' -> the schema's feature name."""
+    name, modality = camera.split("_")
+    return schema.image_key(name, modality)
+
+
+@dataclass
+class VLAProcessor:
+    tokenizer: PreTrainedTokenizerBase
+    normalizer: QuantileNormalizer
+    cameras: list[str]
+    states: list[str]
+    image_size: int
+    prompt: str
+
+    @property
+    def state_dim(self) -> int:
+        return sum(STATE_DIMS[s] for s in self.states)
+
+    def images(self, frame: dict) -> torch.Tensor:
+        """Selected cameras, each (3, H, W) float in [0, 1] -> (K, 3, S, S)."""
+        stacked = torch.stack([frame[camera_key(c)].float() for c in self.cameras])
+        if stacked.shape[-2:] != (self.image_size, self.image_size):
+            stacked = F.interpolate(stacked, size=(self.image_size, self.image_size), mode="bilinear",
+                                    antialias=True, align_corners=False)
+        return stacked
+
+    def state(self, frame: dict) -> torch.Tensor:
+        parts = [self.normalizer.normalize(STATE_KEYS[s], torch.as_tensor(frame[STATE_KEYS[s]]))
+                 for s in self.states]
+        return torch.cat(parts, dim=-1)
+
+    def actions(self, frame: dict) -> torch.Tensor:
+        """Normalised chunk (N, A). Rows past the episode end (LeRobot repeats the last action there) get the
+        normalised zero wrist delta, i.e. "hold still", and keep the last gripper/hand target. As in CogACT's
+        loader, the model then learns to stop at the end of a task, and the loss keeps all B x N x A terms."""
+        chunk = self.normalizer.normalize(schema.ACTION_BASE, torch.as_tensor(frame[schema.ACTION_BASE]))
+        pad = torch.as_tensor(frame[f"{schema.ACTION_BASE}_is_pad"], dtype=torch.bool)
+        still = self.normalizer.normalize(schema.ACTION_BASE, torch.zeros(chunk.shape[-1]))[:WRIST_DELTA_DIMS]
+        chunk[pad, :WRIST_DELTA_DIMS] = still
+        return chunk
+
+    def tokenize(self, instructions: list[str]) -> dict[str, torch.Tensor]:
+        prompts = [self.prompt.format(instruction=text) + "\n" for text in instructions]
+        enc = self.tokenizer(prompts, padding=True, return_tensors="pt")
+        return {"input_ids": enc["input_ids"], "attention_mask": enc["attention_mask"]}
+
+    def __call__(self, frames: list[dict]) -> dict[str, torch.Tensor]:
+        """Collate frames; actions are included when the frames carry them (training)."""
+        batch = {"pixel_values": torch.stack([self.images(f) for f in frames]),
+                 **self.tokenize([f["task"] for f in frames])}
+        if self.states:
+            batch["state"] = torch.stack([self.state(f) for f in frames])
+        if schema.ACTION_BASE in frames[0]:
+            batch["actions"] = torch.stack([self.actions(f) for f in frames])
+        return batch

@@ -1,0 +1,136 @@
+"""MobileManiVLA building blocks: DiT head, cognition backbone, diffusion, normaliser, tokenizer, configs."""
+
+from pathlib import Path
+
+import numpy as np
+import pytest
+import torch
+from hydra import compose, initialize_config_dir
+from transformers.models.paligemma.modeling_paligemma import PaliGemmaModel
+
+from mobilemani_vla.backbone import CognitionBackbone, paligemma_config
+from mobilemani_vla.config import ModelCfg, VLACfg, vla_cfg_from_hydra
+from mobilemani_vla.diffusion import make_scheduler
+from mobilemani_vla.dit import DiT
+from mobilemani_vla.model import build_model
+from mobilemani_vla.normalizer import QuantileNormalizer
+from mobilemani_vla.tokenizer import build_word_tokenizer, load_tokenizer
+
+CONF = str(Path(__file__).resolve().parents[1] / "conf")
+
+
+def compose_vla(overrides: list[str]) -> VLACfg:
+    with initialize_config_dir(config_dir=CONF, version_base="1.3"):
+        return vla_cfg_from_hydra(compose(config_name="vla", overrides=overrides))
+
+
+def count(module: torch.nn.Module) -> int:
+    return sum(p.numel() for p in module.parameters())
+
+
+def test_default_yaml_equals_dataclass_defaults():
+    assert compose_vla([]) == VLACfg()
+
+
+def test_bad_choices_stop_with_the_valid_ones():
+    with pytest.raises(ValueError, match="head_rgb"):
+        compose_vla(["inputs.cameras=[head_ir]"])
+    with pytest.raises(Exception, match="xhand"):
+        compose_vla(["robot=h1"])
+    assert compose_vla(["robot=xhand"]).action_dim == 18
+
+
+def test_dit_b_size_with_a_paligemma2_condition():
+    dit = DiT("B", action_dim=7, chunk=16, cond_dim=2304, guidance=True)
+    assert 85e6 <= count(dit) <= 92e6, count(dit)
+    assert dit.cond_embed.null.shape == (2304,)  # null embedding sized to the real condition
+
+
+def test_dit_starts_at_zero_noise_and_drops_conditions():
+    dit = DiT("Ti", action_dim=7, chunk=16, cond_dim=64, guidance=True)
+    x, t, c = torch.randn(3, 16, 7), torch.tensor([0, 50, 99]), torch.randn(3, 64)
+    assert torch.equal(dit(x, t, c), torch.zeros(3, 16, 7))
+    torch.nn.init.normal_(dit.out.weight)
+    drop = torch.tensor([True, False, True])
+    dropped = dit(x, t, c, drop=drop)
+    assert torch.allclose(dropped[0], dit(x[:1], t[:1], torch.randn(1, 64), drop=drop[:1])[0], atol=1e-5)
+    assert not torch.allclose(dropped[1], dit(x[1:2], t[1:2], torch.randn(1, 64))[0])
+
+
+def test_paligemma2_3b_on_the_meta_device():
+    cfg = compose_vla(["vla/model=paligemma2_3b", "model.pretrained_path=null", "model.tokenizer_path=null"])
+    with torch.device("meta"):
+        model = build_model(cfg, build_word_tokenizer())
+    backbone, head = count(model.backbone), count(model.head)
+    # SigLIP-So400m (~0.41B) + Gemma-2-2B (~2.61B incl. the 257k x 2304 embedding) = ~3.03B.
+    assert 2.95e9 <= backbone <= 3.1e9, backbone
+    assert 85e6 <= head <= 92e6, head
+    assert model.backbone.tokens_per_image == 256 and model.backbone.width == 2304
+    assert next(model.parameters()).is_meta
+
+
+@pytest.fixture(scope="module")
+def backbone():
+    torch.manual_seed(0)
+    tokenizer = build_word_tokenizer()
+    return CognitionBackbone(PaliGemmaModel(paligemma_config(ModelCfg())), tokenizer.eos_token_id).eval(), tokenizer
+
+
+def test_cognition_token_reads_the_prefix_and_leaves_it_unchanged(backbone):
+    model, tokenizer = backbone
+    enc = tokenizer(["open box", "what action should the robot take to pull cart?"], padding=True,
+                    return_tensors="pt")
+    pixels = torch.rand(2, 3, 3, 32, 32)
+    states = []
+    hook = model.vlm.register_forward_hook(lambda m, i, o: states.append(o.last_hidden_state))
+    with torch.no_grad():
+        first = model(pixels, enc.input_ids, enc.attention_mask)
+        model.cognition.add_(1.0)
+        model(pixels, enc.input_ids, enc.attention_mask)
+        model.cognition.sub_(1.0)
+        alone = model(pixels[:1], *tokenizer(["open box"], return_tensors="pt").values())
+        other = pixels.clone()
+        other[0, 2] = torch.rand(3, 32, 32)
+        moved = model(other, enc.input_ids, enc.attention_mask)
+    hook.remove()
+    assert states[0].shape[1] == 3 * 16 + enc.input_ids.shape[1] + 1  # K cameras x 16 patches, prompt, cognition
+    assert torch.equal(states[0][:, :-1], states[1][:, :-1])  # the prefix never sees the cognition token
+    assert not torch.allclose(states[0][:, -1], states[1][:, -1])
+    assert torch.allclose(first[0], alone[0], atol=1e-5)  # left padding does not change the feature
+    assert not torch.allclose(first[0], moved[0])  # it sees every camera
+
+
+def test_ddim_uses_cogacts_ten_leading_steps_and_an_oracle_recovers_x0():
+    scheduler = make_scheduler(VLACfg().diffusion)
+    scheduler.set_timesteps(10)
+    assert scheduler.timesteps.tolist() == list(range(90, -1, -10))
+    x0, noise = torch.rand(2, 16, 7) * 2 - 1, torch.randn(2, 16, 7)
+    x = torch.randn(2, 16, 7)
+    for t in scheduler.timesteps:  # the true epsilon of x relative to x0
+        ab = scheduler.alphas_cumprod[t]
+        eps = (x - ab.sqrt() * x0) / (1 - ab).sqrt()
+        x = scheduler.step(eps, t, x, eta=0.0).prev_sample
+    assert torch.allclose(x, x0, atol=1e-4)
+    assert noise.shape == x.shape
+
+
+def test_quantile_normaliser_round_trip(tmp_path):
+    norm = QuantileNormalizer({"a": ([-2.0, 0.0], [2.0, 10.0])})
+    x = torch.tensor([[1.0, 5.0], [-3.0, 20.0]])
+    y = norm.normalize("a", x)
+    assert torch.allclose(y, torch.tensor([[0.5, 0.0], [-1.0, 1.0]]))
+    norm.save(tmp_path / "n.json")
+    back = QuantileNormalizer.load(tmp_path / "n.json").unnormalize("a", y)
+    assert torch.allclose(back[0], x[0], atol=1e-5) and torch.allclose(back[1], torch.tensor([-2.0, 10.0]))
+
+
+def test_word_tokenizer_is_deterministic_and_round_trips(tmp_path):
+    a = build_word_tokenizer(["pick cracker box", "open table at top left"])
+    b = build_word_tokenizer(["open table at top left", "pick cracker box"])
+    assert a.get_vocab() == b.get_vocab()
+    ids = a("Open WASHING_machine?").input_ids
+    assert a.convert_ids_to_tokens(ids) == ["<bos>", "open", "washing", "machine", "?"]
+    a.save_pretrained(tmp_path)
+    again = load_tokenizer(tmp_path)
+    assert again("pick cracker box").input_ids == a("pick cracker box").input_ids
+    assert again.padding_side == "left" and np.all(np.array(ids) < 128)
