@@ -4,8 +4,10 @@ import mujoco
 import numpy as np
 import pytest
 
-from mobilemani_rl.assets.scenes import staging
+from mobilemani_rl.assets.scenes import add_scene
+from mobilemani_rl.envs import scene as scene_module
 from mobilemani_rl.envs.config import EnvCfg, TaskCfg
+from mobilemani_rl.envs.mobilemani_env import MobileManiEnv
 from mobilemani_rl.render import LABEL_OBJECT, LABEL_ROBOT, CameraRenderCfg, CameraRenderer
 from mobilemani_rl.render.depth import depth_to_uint8, ray_factor, z_depth_from_buffer
 from mobilemani_rl.render.segmentation import geom_labels
@@ -51,18 +53,15 @@ def test_depth_conversions():
 def tabletop_env(request):
     """test/box on a table in a realistic room, plus a probe camera straight above the object."""
 
-    def add_scene_and_probe(spec, placement, obj, check_setting=True):
-        staging_add_scene(spec, placement, obj, check_setting)
+    def add_scene_and_probe(spec, placement, obj):
+        add_scene(spec, placement, obj)
         top = placement.support_height + 1.2
         spec.worldbody.add_camera(name="probe", pos=[0, 0.1, top], fovy=25.0)  # looks down -z
 
-    staging_add_scene = staging.add_scene
     patch = pytest.MonkeyPatch()
-    patch.setattr(staging, "add_scene", add_scene_and_probe)
+    patch.setattr(scene_module, "add_scene", add_scene_and_probe)
     try:
-        env = staging.realistic_env(
-            EnvCfg(num_envs=1, seed=3, task=TaskCfg("g1", "test/box", "open")), "tabletop/02"
-        )
+        env = MobileManiEnv(EnvCfg(num_envs=1, seed=3, task=TaskCfg("g1", "test/box", "open", scene="tabletop/02")))
     finally:
         patch.undo()
     env.reset()

@@ -1,16 +1,17 @@
 """The scripted teacher still succeeds in realistic rooms (visual only; the table sets the height)."""
 
+import numpy as np
 import pytest
 
-from mobilemani_rl.assets.scenes import scene_ids
-from mobilemani_rl.assets.scenes.staging import realistic_env
+from mobilemani_rl.assets.scenes import ROOM_BODY, scene_ids
 from mobilemani_rl.envs.config import EnvCfg, TaskCfg
+from mobilemani_rl.envs.mobilemani_env import MobileManiEnv
 from mobilemani_rl.rollout import first_episode_success
 from mobilemani_rl.scripted import ScriptedPolicy
 
 
 def realistic_success(scene_id: str, robot: str, obj: str, skill: str, episodes: int) -> float:
-    env = realistic_env(EnvCfg(num_envs=episodes, seed=0, task=TaskCfg(robot, obj, skill)), scene_id)
+    env = MobileManiEnv(EnvCfg(num_envs=episodes, seed=0, task=TaskCfg(robot, obj, skill, scene=scene_id)))
     return float(first_episode_success(env, ScriptedPolicy(env), seed=0).mean())
 
 
@@ -20,10 +21,13 @@ def test_g1_opens_the_box_on_a_train_and_a_test_table(scene_id):
 
 
 def test_object_stands_on_the_placement_table():
-    env = realistic_env(EnvCfg(num_envs=2, task=TaskCfg("g1", "test/box", "open")), "tabletop/05")
+    env = MobileManiEnv(EnvCfg(num_envs=2, task=TaskCfg("g1", "test/box", "open", scene="tabletop/05")))
     env.reset(seed=0)
     stage_top = env.view.mocap_pos[:, env.index.stage_mocap, 2] + 0.5  # stage half height
-    assert abs(stage_top - env.object.placement.support_height).max() < 1e-9
+    assert abs(stage_top - env.placement.support_height).max() < 1e-9
+    room = env.model.body_pos[env.model.body(ROOM_BODY).id]
+    offsets = env.view.mocap_pos[:, env.room_mocap] - room
+    assert np.all(np.abs(offsets[:, 0]) <= 0.1) and np.all(np.abs(offsets[:, 1]) <= 0.05) and np.ptp(offsets[:, 0]) > 0
 
 
 @pytest.mark.slow

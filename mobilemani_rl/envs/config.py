@@ -40,6 +40,7 @@ class TaskCfg:
     robot: str = "g1"
     object: str = "test/box"
     skill: str = "open"
+    scene: str | None = None  # a placement id such as "tabletop/07"; None: the plain stage scene
 
 
 @dataclass
@@ -58,6 +59,10 @@ class ResetCfg:
     stage_shift: float = 0.1  # stage front face moved toward the robot by U(0, 0.1) m
     pick_yaw_deg: float = 90.0  # rigid objects spawn with yaw U(-90°, 90°)
     pick_y_offset: float = 0.1
+    # Data recording (reference §8b): no stage shift and no random height (windows keep theirs); room jitter on.
+    recording: bool = False
+    room_jitter_x: list[float] = field(default_factory=lambda: [-0.1, 0.1])
+    room_jitter_y: list[float] = field(default_factory=lambda: [-0.05, 0.05])
 
 
 @dataclass

@@ -14,6 +14,7 @@ import numpy as np
 
 from mobilemani_rl.assets.objects import ObjectKind, check_skill, get_object
 from mobilemani_rl.assets.robots import get_robot
+from mobilemani_rl.assets.scenes import ROOM_BODY, RoomJitterCfg, get_placement, sample_room_offsets
 from mobilemani_rl.envs.config import EnvCfg
 from mobilemani_rl.envs.frames import Frames, SimView, read_frames
 from mobilemani_rl.envs.ik import chain_jacobian, dls_step, wrist_pose_error
@@ -49,7 +50,9 @@ class MobileManiEnv:
         self.robot = get_robot(cfg.task.robot)
         self.object = get_object(cfg.task.object)
         self.skill = check_skill(self.object, cfg.task.skill)
-        self.model, self.index = build_scene(self.robot, self.object, cfg.physics)
+        self.placement = get_placement(cfg.task.scene) if cfg.task.scene else None
+        self.model, self.index = build_scene(self.robot, self.object, cfg.physics, self.placement)
+        self.room_mocap = int(self.model.body_mocapid[self.model.body(ROOM_BODY).id]) if self.placement else -1
         self.num_envs = cfg.num_envs
         self.num_actions = self.robot.action_dim
         self.max_episode_length = cfg.episode_length
@@ -89,7 +92,8 @@ class MobileManiEnv:
 
     def _reset_envs(self, ids: np.ndarray) -> None:
         idx, v = self.index, self.view
-        start = sample_episode_start(self.rng, len(ids), self.robot, self.object, self.skill, self.cfg.reset)
+        start = sample_episode_start(self.rng, len(ids), self.robot, self.object, self.skill, self.cfg.reset,
+                                     self.placement)
         rows = ids[:, None]
         v.qpos[rows, idx.robot_qpos] = idx.robot_default_qpos
         v.qvel[ids] = 0.0
@@ -106,6 +110,11 @@ class MobileManiEnv:
             v.qpos[ids, q + 3:q + 7] = start.object_quat
         if idx.object_joint_qpos >= 0:
             v.qpos[ids, idx.object_joint_qpos] = start.joint_value
+        if self.room_mocap >= 0:
+            rcfg = self.cfg.reset
+            jitter = RoomJitterCfg(tuple(rcfg.room_jitter_x), tuple(rcfg.room_jitter_y))
+            room = self.model.body_pos[self.model.body(ROOM_BODY).id]
+            v.mocap_pos[ids, self.room_mocap] = room + sample_room_offsets(self.rng, len(ids), jitter)
         self.batch.forward(ids, stage=mujoco.mjtStage.mjSTAGE_VEL)
         fresh = read_frames(v, idx, ids)
         fresh.joint_acc[:] = 0.0

@@ -9,6 +9,8 @@ import numpy as np
 from mobilemani_rl.assets.objects import ObjectKind, ObjectModel
 from mobilemani_rl.assets.objects.model import CART_TRAVEL, PICK_LIFT
 from mobilemani_rl.assets.robots import RobotDescription
+from mobilemani_rl.assets.scenes import Placement
+from mobilemani_rl.assets.scenes.footprint import stage_top as support_height
 from mobilemani_rl.envs.config import ResetCfg
 from mobilemani_rl.envs.scene import STAGE_HALF
 from mobilemani_rl.rotations import quat_from_yaw
@@ -32,10 +34,15 @@ class EpisodeStart:
 
 
 def sample_episode_start(rng: np.random.Generator, n: int, robot: RobotDescription, obj: ObjectModel, skill: str,
-                         cfg: ResetCfg) -> EpisodeStart:
+                         cfg: ResetCfg, placement: Placement | None = None) -> EpisodeStart:
     kin, params = obj.kinematics, obj.params
-    lift = rng.uniform(0.0, cfg.random_height, n) if params.random_height else np.zeros(n)
-    stage_top = params.init_height + lift
+    # Recording and realistic rooms (the object stands on the placement's visible table) zero the random height,
+    # except for windows, and the stage shift (reference §8b).
+    plain = placement is None and not cfg.recording
+    random_height = params.random_height and (plain or obj.category == "window")
+    lift = rng.uniform(0.0, cfg.random_height, n) if random_height else np.zeros(n)
+    stage_top = (params.init_height if placement is None else support_height(obj, placement)) + lift
+    stage_shift = cfg.stage_shift if plain else 0.0
     # The object's grasp point (at its initial joint value) sits over the env origin, as the reference.
     object_pos = np.zeros((n, 3))
     object_pos[:, :2] = -kin.handle_closed[:2]
@@ -50,7 +57,7 @@ def sample_episode_start(rng: np.random.Generator, n: int, robot: RobotDescripti
     grasp_start = object_pos + _rotate_z(object_quat, kin.handle_closed)
     goal_pos, goal_scale = _goal(obj, skill, object_pos, grasp_start, n)
 
-    front = object_pos[:, 1] + kin.front_y - rng.uniform(0.0, cfg.stage_shift, n)
+    front = object_pos[:, 1] + kin.front_y - rng.uniform(0.0, stage_shift, n)
     stage_pos = np.stack((np.zeros(n), front + STAGE_HALF[1], stage_top - STAGE_HALF[2]), axis=1)
 
     root_xy = np.asarray(robot.default_root_xy) + np.stack(

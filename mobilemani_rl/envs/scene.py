@@ -11,6 +11,7 @@ from mobilemani_rl.assets.collision import WORLD_CONTACT
 from mobilemani_rl.assets.objects import ObjectKind, ObjectModel
 from mobilemani_rl.assets.objects.model import GRASP_SITE, ROOT_BODY
 from mobilemani_rl.assets.robots import RobotDescription
+from mobilemani_rl.assets.scenes import Placement, add_scene
 from mobilemani_rl.envs.config import PhysicsCfg
 
 OBJECT_PREFIX = "obj/"
@@ -139,7 +140,11 @@ def index_scene(model: mujoco.MjModel, robot: RobotDescription, obj: ObjectModel
     )
 
 
-def build_scene(robot: RobotDescription, obj: ObjectModel, physics: PhysicsCfg,
+def build_scene(robot: RobotDescription, obj: ObjectModel, physics: PhysicsCfg, placement: Placement | None = None,
                 ) -> tuple[mujoco.MjModel, SceneIndex]:
-    model = build_scene_spec(robot, obj, physics).compile()
+    """The plain stage scene, decorated with a realistic room when a placement is given."""
+    spec = build_scene_spec(robot, obj, physics)
+    if placement is not None:
+        add_scene(spec, placement, obj)
+    model = spec.compile()
     return model, index_scene(model, robot, obj)

@@ -15,8 +15,8 @@ from collections.abc import Callable
 
 import mujoco
 
-from mobilemani_rl.assets.scenes.staging import realistic_env
 from mobilemani_rl.envs.config import EnvCfg, TaskCfg
+from mobilemani_rl.envs.mobilemani_env import MobileManiEnv
 from mobilemani_rl.render.config import CameraRenderCfg
 from mobilemani_rl.render.renderer import CameraRenderer
 
@@ -70,8 +70,8 @@ def main(argv: list[str] | None = None) -> None:
     parser.add_argument("--shadows", action="store_true")
     parser.add_argument("--multisampling", action="store_true")
     args = parser.parse_args(argv)
-    task = TaskCfg(robot=args.robot, object=args.object, skill="open")
-    env = realistic_env(EnvCfg(num_envs=1, task=task), args.scene)
+    task = TaskCfg(robot=args.robot, object=args.object, skill="open", scene=args.scene)
+    env = MobileManiEnv(EnvCfg(num_envs=1, task=task))
     env.reset()
     data = env.batch.get_data(0)
     results = [

@@ -53,15 +53,9 @@ def sample_room_offsets(rng: np.random.Generator, n: int, cfg: RoomJitterCfg | N
     return np.stack((rng.uniform(*cfg.x, n), rng.uniform(*cfg.y, n), np.zeros(n)), axis=1)
 
 
-def add_scene(
-    spec: mujoco.MjSpec, placement: Placement, obj: ObjectModel, check_setting: bool = True
-) -> None:
-    """Add the placement's room (or parking lot) around the object's slot, in place.
-
-    `check_setting=False` lets previews put an object into another setting's rooms (e.g. a test object into a
-    door scene before any door exists).
-    """
-    if check_setting and setting_of(obj) is not placement.setting:
+def add_scene(spec: mujoco.MjSpec, placement: Placement, obj: ObjectModel) -> None:
+    """Add the placement's room (or parking lot) around the object's slot, in place."""
+    if setting_of(obj) is not placement.setting:
         valid = ", ".join(p.scene_id for p in placements_for(obj))
         raise ValueError(
             f"scene {placement.scene_id!r} is a {placement.setting.value} placement but "

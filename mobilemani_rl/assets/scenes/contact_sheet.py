@@ -1,7 +1,7 @@
 """`MUJOCO_GL=egl python -m mobilemani_rl.assets scenes --out sheet.png`: head and wrist views, all scenes.
 
-Each placement shows one registry object of its setting (categories in turn; a test object where a setting has
-none yet, placed with `check_setting=False`), posed at an episode start of the object's first skill.
+Each placement shows one catalog object of its setting (categories in turn), posed at an episode start of the
+object's first skill.
 """
 
 from __future__ import annotations
@@ -15,11 +15,10 @@ from PIL import Image, ImageDraw
 
 from mobilemani_rl.assets.objects import OBJECTS, ObjectModel
 from mobilemani_rl.assets.scenes.placements import PLACEMENTS, Placement, setting_of
-from mobilemani_rl.assets.scenes.staging import realistic_env
 from mobilemani_rl.envs.config import EnvCfg, TaskCfg
+from mobilemani_rl.envs.mobilemani_env import MobileManiEnv
 from mobilemani_rl.render import CameraRenderCfg, CameraRenderer
 
-FALLBACK_OBJECT = "test/box"
 PER_ROW = 5  # placements per row
 LABEL_HEIGHT = 14
 
@@ -30,9 +29,6 @@ def showcase_object(placement: Placement) -> ObjectModel:
     for obj in OBJECTS.values():
         if setting_of(obj) is placement.setting and not obj.object_id.startswith("test/"):
             by_category.setdefault(obj.category, []).append(obj)
-    if not by_category:
-        fitting = [obj for obj in OBJECTS.values() if setting_of(obj) is placement.setting]
-        return fitting[placement.index % len(fitting)] if fitting else OBJECTS[FALLBACK_OBJECT]
     categories = sorted(by_category)
     objects = by_category[categories[placement.index % len(categories)]]
     return objects[(placement.index // len(categories)) % len(objects)]
@@ -40,10 +36,8 @@ def showcase_object(placement: Placement) -> ObjectModel:
 
 def render_placement(placement: Placement, obj: ObjectModel, robot: str, size: int) -> np.ndarray:
     """(size + label, 2 * size, 3): head view | wrist view, labelled."""
-    task = TaskCfg(robot=robot, object=obj.object_id, skill=obj.skills[0])
-    env = realistic_env(
-        EnvCfg(num_envs=1, seed=placement.index, task=task), placement.scene_id, check_setting=False
-    )
+    task = TaskCfg(robot=robot, object=obj.object_id, skill=obj.skills[0], scene=placement.scene_id)
+    env = MobileManiEnv(EnvCfg(num_envs=1, seed=placement.index, task=task))
     env.reset()
     with CameraRenderer(env.model, CameraRenderCfg(width=size, height=size)) as renderer:
         frames = renderer.render(env.batch.get_data(0))
