@@ -3,12 +3,14 @@
     python -m mobilemani_rl.eval checkpoint=runs/rl/g1/test/box/open/model_1499.pt [episodes=256] [seed=1000]
         [video_episodes=2]
 
-The task, env and PPO settings come from the run's saved config.yaml; all episodes run as one batch with the
-deterministic policy. Results are written next to the checkpoint as eval_<checkpoint>_<seed>.json.
+The task, env and PPO settings come from the run's saved config.yaml; each object's episodes run as one batch
+with the deterministic policy. A multi-object (category) policy is evaluated on the category's train and test
+objects. Results are written next to the checkpoint as eval_<checkpoint>_<seed>.json.
 """
 
 from __future__ import annotations
 
+import dataclasses
 import json
 import os
 from pathlib import Path
@@ -21,6 +23,8 @@ import torch
 from omegaconf import DictConfig, OmegaConf
 from tensordict import TensorDict
 
+from mobilemani_rl.assets.objects import CATEGORIES, SPLITS, catalog_ids, get_object
+from mobilemani_rl.envs.config import env_cfg_from_hydra
 from mobilemani_rl.envs.mobilemani_env import MobileManiEnv
 from mobilemani_rl.rl.run_dir import CONFIG, write_json_atomic
 from mobilemani_rl.rollout import run_first_episodes
@@ -74,20 +78,42 @@ class HeadCameraRecorder:
         return paths
 
 
+def evaluation_objects(task_object: str) -> dict[str, list[str]]:
+    """Objects to evaluate by split: the run's object, or a category's train and test objects."""
+    if task_object in CATEGORIES:
+        return {split: catalog_ids(task_object, split) for split in SPLITS}
+    return {get_object(task_object).split or "train": [task_object]}
+
+
 def evaluate(checkpoint: Path, episodes: int, seed: int, video_episodes: int = 0) -> dict:
+    """Success and reward breakdown of a checkpoint over `episodes` seeded episodes per evaluated object."""
     if not checkpoint.is_file():
         raise FileNotFoundError(f"checkpoint {checkpoint} does not exist")
     run_cfg = OmegaConf.load(checkpoint.parent / CONFIG)
-    run_cfg.logger = "tensorboard"
-    runner = build_runner(run_cfg, run_dir=None, num_envs=episodes)
-    runner.load(str(checkpoint))
-    env: MobileManiEnv = runner.env.env
-    recorder = HeadCameraRecorder(env, video_episodes) if video_episodes else None
-    stats = run_first_episodes(env, TeacherPolicy(env, runner.get_inference_policy()), seed=seed, on_step=recorder)
+    env_cfg = env_cfg_from_hydra(run_cfg)
+    env_cfg.num_envs = episodes
+    per_object: dict[str, dict] = {}
+    actor = None
+    for split, object_ids in evaluation_objects(env_cfg.task.object).items():
+        for object_id in object_ids:
+            env = MobileManiEnv(dataclasses.replace(env_cfg, task=dataclasses.replace(env_cfg.task,
+                                                                                      object=object_id)))
+            if actor is None:
+                runner = build_runner(run_cfg, run_dir=None, env=env)
+                runner.load(str(checkpoint))
+                actor = runner.get_inference_policy()
+            recorder = HeadCameraRecorder(env, video_episodes) if video_episodes else None
+            stats = run_first_episodes(env, TeacherPolicy(env, actor), seed=seed, on_step=recorder)
+            per_object[object_id] = {"split": split, **stats.summary()}
+            if recorder is not None:
+                per_object[object_id]["videos"] = recorder.write(
+                    checkpoint.parent / f"eval_videos_{checkpoint.stem}" / object_id.replace("/", "_"))
+    by_split = {split: float(np.mean([r["success_rate"] for r in per_object.values() if r["split"] == split]))
+                for split in {r["split"] for r in per_object.values()}}
     result = {"checkpoint": str(checkpoint), "seed": seed, "task": OmegaConf.to_container(run_cfg.task),
-              **stats.summary()}
-    if recorder is not None:
-        result["videos"] = recorder.write(checkpoint.parent / f"eval_videos_{checkpoint.stem}")
+              "episodes_per_object": episodes, "success_rate": float(np.mean([r["success_rate"]
+                                                                               for r in per_object.values()])),
+              "success_by_split": by_split, "objects": per_object}
     write_json_atomic(checkpoint.parent / f"eval_{checkpoint.stem}_{seed}.json", result)
     return result
 

@@ -1,6 +1,7 @@
-"""Train a PPO teacher for one (robot, object, skill):
+"""Train a PPO teacher for one (robot, object, skill), or for a whole category (multi-object mode):
 
     python -m mobilemani_rl.train robot=g1 task.object=test/box task.skill=open [rl/ppo=paper]
+    python -m mobilemani_rl.train robot=g1 task.object=laptop task.skill=open objects_per_policy=8
 
 Rerunning the same command resumes from the run directory's newest checkpoint with its saved config; a
 finished run (result.json present) is left as it is.
@@ -15,8 +16,10 @@ import hydra
 import torch
 from omegaconf import DictConfig, OmegaConf
 
-from mobilemani_rl.envs.config import env_cfg_from_hydra
+from mobilemani_rl.assets.objects import CATEGORIES, catalog_ids
+from mobilemani_rl.envs.config import EnvCfg, env_cfg_from_hydra
 from mobilemani_rl.envs.mobilemani_env import MobileManiEnv
+from mobilemani_rl.envs.multi_object import MultiObjectEnv
 from mobilemani_rl.envs.vecenv import RslRlVecEnv
 from mobilemani_rl.rl.config import PpoCfg, rsl_rl_train_cfg
 from mobilemani_rl.rl.run_dir import (
@@ -36,15 +39,31 @@ def ppo_cfg_from_hydra(cfg: DictConfig) -> PpoCfg:
     return OmegaConf.to_object(OmegaConf.merge(OmegaConf.structured(PpoCfg), cfg.rl.ppo))
 
 
-def build_runner(cfg: DictConfig, run_dir: Path | None, num_envs: int | None = None) -> MobileManiRunner:
+def policy_objects(task_object: str, max_objects: int) -> list[str] | None:
+    """A category name selects multi-object mode over its train objects; an object id trains one object."""
+    if task_object not in CATEGORIES:
+        return None
+    return catalog_ids(task_object, "train")[:max_objects]
+
+
+def make_env(env_cfg: EnvCfg, max_objects: int) -> MobileManiEnv | MultiObjectEnv:
+    objects = policy_objects(env_cfg.task.object, max_objects)
+    return MobileManiEnv(env_cfg) if objects is None else MultiObjectEnv(env_cfg, objects)
+
+
+def build_runner(cfg: DictConfig, run_dir: Path | None, num_envs: int | None = None,
+                 env: MobileManiEnv | MultiObjectEnv | None = None) -> MobileManiRunner:
     """Env + rsl-rl runner for a composed config (run_dir None: no logging, e.g. for evaluation)."""
     ppo = ppo_cfg_from_hydra(cfg)
-    env_cfg = env_cfg_from_hydra(cfg)
-    env_cfg.num_envs, env_cfg.seed = num_envs or ppo.num_envs, ppo.seed
     if ppo.torch_threads:
         torch.set_num_threads(ppo.torch_threads)
     torch.manual_seed(ppo.seed)
-    env = RslRlVecEnv(MobileManiEnv(env_cfg))
+    if env is None:
+        env_cfg = env_cfg_from_hydra(cfg)
+        env_cfg.num_envs, env_cfg.seed = num_envs or ppo.num_envs, ppo.seed
+        env = make_env(env_cfg, cfg.objects_per_policy)
+    env_cfg = env.cfg
+    env = RslRlVecEnv(env)
     logger = cfg.logger if cfg.logger == "tensorboard" else {"class_name": "WandbLogWriter",
                                                               "project_name": cfg.wandb_project}
     run_name = f"{env_cfg.task.robot}/{env_cfg.task.object}/{env_cfg.task.skill}"

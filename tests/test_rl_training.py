@@ -32,8 +32,9 @@ def test_tiny_training_checkpoint_loads_and_evaluates(tmp_path):
     checkpoint = latest_checkpoint(run_dir)
     assert checkpoint.name == "model_2.pt"
     result = evaluate(checkpoint, episodes=4, seed=3)
-    assert result["episodes"] == 4 and 0.0 <= result["success_rate"] <= 1.0
-    assert result["reward_terms"]["diff_hand_object"] < 0.0
+    box = result["objects"]["test/box"]
+    assert box["episodes"] == 4 and 0.0 <= result["success_rate"] <= 1.0
+    assert box["reward_terms"]["diff_hand_object"] < 0.0
     assert (run_dir / "eval_model_2_3.json").exists()
     # A finished run is left alone.
     before = sorted(p.name for p in run_dir.iterdir())
@@ -72,3 +73,12 @@ def test_killed_training_resumes_from_last_checkpoint(tmp_path):
     assert latest_checkpoint(run_dir).name == "model_7.pt" and (run_dir / "result.json").exists()
     curve = json.loads((run_dir / "curve.json").read_text())
     assert curve[-1]["iteration"] == 7
+
+
+def test_multi_object_policy_trains_over_a_category_and_evaluates_per_split(tmp_path):
+    run_dir = tmp_path / "laptops"
+    train(compose_rl(["rl/ppo=tiny", f"run_dir={run_dir}", "task.object=laptop", "objects_per_policy=2",
+                      "rl.ppo.max_iterations=1"]))
+    result = evaluate(latest_checkpoint(run_dir), episodes=2, seed=0)
+    assert set(result["success_by_split"]) == {"train", "test"}
+    assert len(result["objects"]) == 36  # laptop: 30 train + 6 test objects

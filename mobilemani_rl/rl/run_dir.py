@@ -39,9 +39,9 @@ def write_json_atomic(path: Path, payload: dict | list) -> None:
 
 
 def save_or_check_config(run_dir: Path, cfg: DictConfig, keys: tuple[str, ...]) -> None:
-    """Store the config of a new run; for an existing run, require the same values under `keys`."""
+    """Store the (resolved) config of a new run; for an existing run, require the same values under `keys`."""
     path = run_dir / CONFIG
-    current = OmegaConf.masked_copy(cfg, list(keys))
+    current = OmegaConf.create(OmegaConf.to_container(cfg, resolve=True))
     if not path.exists():
         run_dir.mkdir(parents=True, exist_ok=True)
         OmegaConf.save(current, path)
