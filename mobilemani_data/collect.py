@@ -1,0 +1,65 @@
+"""Collect successful teacher episodes into raw HDF5 shards, one per (robot, object, skill, scene):
+
+    python -m mobilemani_data.collect robot=g1 data/subset=small [data/teacher=ppo] [subset.episodes=10]
+
+Complete shards are skipped, so a rerun (or a resumed multirun job) only fills in what is missing; a killed run
+leaves at most a `.partial` file, which the rerun overwrites.
+"""
+
+from __future__ import annotations
+
+import time
+from pathlib import Path
+
+import hydra
+from omegaconf import DictConfig, OmegaConf
+
+from mobilemani_data import schema
+from mobilemani_data.combos import Combination, select_combinations, shard_of
+from mobilemani_data.config import DataCfg, data_cfg_from_hydra
+from mobilemani_data.recorder import collect_successes
+from mobilemani_data.shards import is_complete, write_shard
+from mobilemani_data.teachers import TeacherUnavailable, build_teacher
+
+
+def collect_combination(cfg: DataCfg, combo: Combination, path: Path) -> str:
+    seed = combo.seed(cfg.collect.seed)
+    try:
+        teacher = build_teacher(cfg.teacher, combo, cfg.env, cfg.collect.num_envs, seed)
+    except TeacherUnavailable as err:
+        return f"skipped: {err}"
+    rollouts = collect_successes(teacher.env, teacher.policy, cfg.subset.episodes, cfg.collect.max_steps, seed)
+    header = {**combo.metadata(), "instruction": combo.instruction, "teacher": teacher.name, "seed": seed,
+              "fps": schema.FPS, "requested": cfg.subset.episodes, "attempts": rollouts.attempts,
+              "steps": rollouts.steps, "capped": rollouts.capped,
+              "env_cfg": OmegaConf.to_yaml(OmegaConf.structured(teacher.env.cfg))}
+    write_shard(path, header, rollouts.episodes, cfg.collect.compression)
+    lengths = [ep.length for ep in rollouts.episodes]
+    capped = " (step cap reached)" if rollouts.capped else ""
+    return (f"{len(lengths)}/{cfg.subset.episodes} episodes from {rollouts.attempts} attempts{capped}, "
+            f"mean length {sum(lengths) / max(1, len(lengths)):.0f}")
+
+
+def collect(cfg: DataCfg) -> list[Path]:
+    combos = shard_of(select_combinations(cfg.robot, cfg.subset), cfg.shard)
+    raw_dir = Path(cfg.raw_dir)
+    paths = []
+    for k, combo in enumerate(combos):
+        path = raw_dir / combo.shard_path
+        paths.append(path)
+        if is_complete(path):
+            print(f"[{k + 1}/{len(combos)}] {combo.name}: complete, skipped")
+            continue
+        start = time.perf_counter()
+        summary = collect_combination(cfg, combo, path)
+        print(f"[{k + 1}/{len(combos)}] {combo.name}: {summary} ({time.perf_counter() - start:.1f} s)", flush=True)
+    return paths
+
+
+@hydra.main(config_path="../conf", config_name="data", version_base="1.3")
+def main(cfg: DictConfig) -> None:
+    collect(data_cfg_from_hydra(cfg))
+
+
+if __name__ == "__main__":
+    main()

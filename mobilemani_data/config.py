@@ -1,0 +1,119 @@
+"""Dataset configuration dataclasses, mirrored by conf/data.yaml and its groups (conf/data/subset, conf/data/teacher).
+
+The env block (conf/env) is the RL env's EnvCfg; collection turns on its recording resets (reference §8b).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+from omegaconf import DictConfig, OmegaConf
+
+from mobilemani_rl.envs.config import EnvCfg, TaskCfg, env_cfg_from_hydra
+
+
+@dataclass
+class SubsetCfg:
+    """Which (object, skill, scene) combinations to record, and how many successful episodes each."""
+
+    split: str = "train"  # object split; explicit `objects` ignore it
+    scene_split: str | None = None  # scene split (rooms 00–15 train, 16–19 test); None: same as `split`
+    categories: list[str] | None = None  # None: all 20
+    objects: list[str] | None = None  # explicit object ids; None: the catalog's objects of the split
+    objects_per_category: int | None = None  # first k objects of each category; None: all
+    skills: list[str] | None = None  # None: every skill of each object
+    scenes: list[str] | None = None  # explicit scene ids (those of the object's setting are used)
+    scenes_per_object: int | None = None  # first k scenes of the object's setting; None: all of the split
+    episodes: int = 10  # successful episodes per combination (reference §8a)
+
+
+@dataclass
+class TeacherCfg:
+    kind: str = "scripted"  # scripted | ppo
+    runs_dir: str = "runs/rl"  # ppo: newest <runs_dir>/<robot>/<object>/<skill>/model_*.pt
+    min_train_success: float = 0.1  # ppo: skip tasks whose teacher trained below this (reference §8a)
+
+
+@dataclass
+class CollectCfg:
+    num_envs: int = 16  # episodes run in parallel per combination
+    max_steps: int = 6000  # control steps of the batch per combination before giving up (reference §8a)
+    seed: int = 0  # mixed with each combination's name into its env seed
+    compression: int = 4  # gzip level of the HDF5 datasets
+
+
+@dataclass
+class ShardCfg:
+    """This job's share of the combinations (Hydra multirun: shard.index=0,1,2,3 shard.count=4)."""
+
+    index: int = 0
+    count: int = 1
+
+
+@dataclass
+class ExportCfg:
+    repo_id: str = "mobilemani/g1"
+    width: int = 520  # reference §8c
+    height: int = 520
+    vcodec: str = "libsvtav1"
+    crf: int = 30
+    gop: int = 2  # keyframe interval: small so random frame access stays cheap
+    preset: int | None = None  # None: the codec's default
+    action_convention: str = "conjugate"  # base_frame.Convention; "reference": the released data's quirk (§10.3)
+    overwrite: bool = False
+
+
+@dataclass
+class ValidateCfg:
+    replay_episodes: int = 2  # episodes whose states are replayed and compared
+    tolerance: float = 1e-6
+    decode_frames: int = 4  # frames decoded through LeRobotDataset per check
+
+
+@dataclass
+class PreviewCfg:
+    episodes: int = 3
+    path: str = "data/g1/preview.mp4"
+
+
+@dataclass
+class BenchCfg:
+    sizes: list[int] = field(default_factory=lambda: [224, 520])
+    episodes: int = 2
+    out: str = "data/g1/bench.json"
+
+
+@dataclass
+class DataCfg:
+    robot: str = "g1"
+    data_dir: str = "data/g1"
+    raw_dir: str = "data/g1/raw"
+    dataset_dir: str = "data/g1/lerobot"
+    subset: SubsetCfg = field(default_factory=SubsetCfg)
+    teacher: TeacherCfg = field(default_factory=TeacherCfg)
+    collect: CollectCfg = field(default_factory=CollectCfg)
+    shard: ShardCfg = field(default_factory=ShardCfg)
+    export: ExportCfg = field(default_factory=ExportCfg)
+    validate: ValidateCfg = field(default_factory=ValidateCfg)
+    preview: PreviewCfg = field(default_factory=PreviewCfg)
+    bench: BenchCfg = field(default_factory=BenchCfg)
+    env: EnvCfg = field(default_factory=EnvCfg)
+
+
+def data_cfg_from_hydra(cfg: DictConfig) -> DataCfg:
+    """The composed root config (conf/data.yaml) -> DataCfg; unknown keys are errors."""
+    blocks = ("data_dir", "raw_dir", "dataset_dir", "subset", "teacher", "collect", "shard", "export", "validate",
+              "preview", "bench")
+    plain = OmegaConf.to_container(cfg, resolve=True)
+    merged = OmegaConf.merge(OmegaConf.structured(DataCfg),
+                             {"robot": cfg.task.robot, **{k: plain[k] for k in blocks}})
+    out: DataCfg = OmegaConf.to_object(merged)
+    out.env = env_cfg_from_hydra(OmegaConf.create({"env": plain["env"], "task": {"robot": cfg.task.robot}}))
+    return out
+
+
+def recording_env_cfg(base: EnvCfg, task: TaskCfg, num_envs: int, seed: int) -> EnvCfg:
+    """The env config one combination is recorded with: the base settings, its task, recording resets."""
+    merged = OmegaConf.merge(OmegaConf.structured(base), {"task": OmegaConf.structured(task), "num_envs": num_envs,
+                                                          "seed": seed, "reset": {"recording": True}})
+    return OmegaConf.to_object(merged)

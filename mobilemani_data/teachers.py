@@ -1,0 +1,69 @@
+"""Teachers for collection: the scripted reference policy, or a trained PPO checkpoint (reference §8a)."""
+
+from __future__ import annotations
+
+import json
+from dataclasses import dataclass
+from pathlib import Path
+
+from omegaconf import OmegaConf
+
+from mobilemani_data.combos import Combination
+from mobilemani_data.config import TeacherCfg, recording_env_cfg
+from mobilemani_data.recorder import Policy
+from mobilemani_rl.envs.config import EnvCfg, TaskCfg
+from mobilemani_rl.envs.mobilemani_env import MobileManiEnv
+from mobilemani_rl.registry import check_choice
+from mobilemani_rl.scripted import ScriptedPolicy
+
+KINDS = ("scripted", "ppo")
+
+
+class TeacherUnavailable(RuntimeError):
+    """A PPO teacher that should be skipped: it trained below the success bar."""
+
+
+@dataclass
+class Teacher:
+    env: MobileManiEnv
+    policy: Policy
+    name: str  # "scripted" or the checkpoint path
+
+
+def task_of(combo: Combination) -> TaskCfg:
+    return TaskCfg(robot=combo.robot, object=combo.object_id, skill=combo.skill, scene=combo.scene)
+
+
+def build_teacher(cfg: TeacherCfg, combo: Combination, env_base: EnvCfg, num_envs: int, seed: int) -> Teacher:
+    check_choice(cfg.kind, KINDS, "teacher kind")
+    if cfg.kind == "scripted":
+        env = MobileManiEnv(recording_env_cfg(env_base, task_of(combo), num_envs, seed))
+        return Teacher(env, ScriptedPolicy(env), "scripted")
+    return _ppo_teacher(cfg, combo, num_envs, seed)
+
+
+def _ppo_teacher(cfg: TeacherCfg, combo: Combination, num_envs: int, seed: int) -> Teacher:
+    # Imported here: the RL stack (torch, rsl-rl) is only needed for PPO teachers.
+    from mobilemani_rl.eval import TeacherPolicy
+    from mobilemani_rl.rl.run_dir import CONFIG, RESULT, latest_checkpoint
+    from mobilemani_rl.train import build_runner
+
+    run_dir = Path(cfg.runs_dir) / combo.robot / combo.object_id / combo.skill
+    checkpoint = latest_checkpoint(run_dir)
+    if checkpoint is None:
+        raise FileNotFoundError(f"no teacher checkpoint model_*.pt in {run_dir} for {combo.name} "
+                                f"(train one with python -m mobilemani_rl.train, or use data/teacher=scripted)")
+    result = run_dir / RESULT
+    if result.exists() and (rate := json.loads(result.read_text()).get("train_success")) is not None:
+        if rate < cfg.min_train_success:
+            raise TeacherUnavailable(f"{run_dir} trained to success {rate:.2f} < {cfg.min_train_success}")
+    # The teacher acts in the env it was trained in (physics, action scales), placed in the recording scene.
+    run_cfg = OmegaConf.load(run_dir / CONFIG)
+    run_cfg.task.scene = combo.scene
+    run_cfg.env.reset.recording = True
+    run_cfg.logger = "tensorboard"
+    runner = build_runner(run_cfg, run_dir=None, num_envs=num_envs)
+    runner.load(str(checkpoint))
+    env: MobileManiEnv = runner.env.env
+    env.cfg.seed = seed
+    return Teacher(env, TeacherPolicy(env, runner.get_inference_policy()), str(checkpoint))
