@@ -1,0 +1,124 @@
+"""MobileManiVLA on a generated LeRobot dataset: batches, experiment configs, checkpoints, resume, inference."""
+
+import json
+from pathlib import Path
+
+import numpy as np
+import pytest
+import torch
+from hydra import compose, initialize_config_dir
+
+from mobilemani_data import schema
+from mobilemani_vla.config import STATES, VLACfg, vla_cfg_from_hydra
+from mobilemani_vla.data import open_dataset
+from mobilemani_vla.model import build_model
+from mobilemani_vla.normalizer import QuantileNormalizer
+from mobilemani_vla.policy import FULL_STATE_DIM, VLAPolicy
+from mobilemani_vla.processor import VLAProcessor
+from mobilemani_vla.synthetic import write_synthetic_dataset
+from mobilemani_vla.tokenizer import build_word_tokenizer
+from mobilemani_vla.train import train
+
+CONF = str(Path(__file__).resolve().parents[1] / "conf")
+EXPERIMENTS = sorted(p.stem for p in (Path(CONF) / "experiment").glob("ablation_*.yaml"))
+
+
+@pytest.fixture(scope="module")
+def dataset_root(tmp_path_factory) -> Path:
+    return write_synthetic_dataset(tmp_path_factory.mktemp("vla") / "g1", episodes=2, length=20)
+
+
+def tiny_cfg(root: Path, out: Path, overrides: list[str] = ()) -> VLACfg:
+    base = ["vla/model=tiny", "vla/train=cpu", f"data.root={root}", "data.repo_id=synthetic/g1",
+            f"train.output_dir={out}", "train.logger=none", "train.progress=false", "train.batch_size=4"]
+    with initialize_config_dir(config_dir=CONF, version_base="1.3"):
+        return vla_cfg_from_hydra(compose(config_name="vla", overrides=[*overrides, *base]))
+
+
+def test_forward_backward_on_a_dataset_batch(dataset_root, tmp_path):
+    cfg = tiny_cfg(dataset_root, tmp_path)
+    dataset = open_dataset(cfg)
+    tokenizer = build_word_tokenizer()
+    normalizer = QuantileNormalizer.from_stats(dataset.meta.stats, [schema.ACTION_BASE, schema.WRIST_POSE_BASE])
+    model = build_model(cfg, tokenizer)
+    processor = VLAProcessor(tokenizer, normalizer, cfg.inputs.cameras, cfg.inputs.states, 32, cfg.model.prompt)
+    frames = [dataset[i] for i in (0, 7, 18, 19)]  # the last two run past the episode end
+    batch = processor(frames)
+    assert batch["pixel_values"].shape == (4, 4, 3, 32, 32)
+    assert batch["actions"].shape == (4, 16, 7) and batch["state"].shape == (4, 6)
+    assert batch["actions"].abs().max() <= 1.0
+    # Padded rows: the normalised zero wrist delta ("hold still"), the last gripper target kept.
+    still = normalizer.normalize(schema.ACTION_BASE, torch.zeros(7))
+    assert torch.allclose(batch["actions"][3, 1:, :6], still[:6].expand(15, 6))
+    assert torch.allclose(batch["actions"][3, 1:, 6], batch["actions"][3, 0, 6].expand(15))
+    loss = model(batch)
+    assert torch.isfinite(loss)
+    torch.nn.init.normal_(model.head.dit.out.weight, std=0.02)  # zero-initialised: no gradient flows back yet
+    model(batch).backward()
+    for part in (model.backbone.vlm.vision_tower, model.backbone.vlm.language_model, model.head.dit.blocks,
+                 model.state_encoder):
+        assert any(p.grad is not None and p.grad.abs().sum() > 0 for p in part.parameters())
+    assert model.backbone.cognition.grad.abs().sum() > 0
+
+
+@pytest.mark.parametrize("experiment", EXPERIMENTS)
+def test_experiment_configs_compose_and_train(experiment, dataset_root, tmp_path):
+    cfg = tiny_cfg(dataset_root, tmp_path, [f"+experiment={experiment}", "train.steps=2"])
+    assert cfg.name == experiment
+    with initialize_config_dir(config_dir=CONF, version_base="1.3"):  # alone it is the paper's 3B setting
+        paper = compose(config_name="vla", overrides=[f"+experiment={experiment}"])
+    assert (paper.model.name, paper.train.batch_size, paper.train.steps) == ("paligemma2_3b", 120, 160000)
+    result = train(cfg)
+    assert len(result.losses) == 2 and np.isfinite(result.losses).all()
+    model = result.model
+    batch = result.processor([open_dataset(cfg)[3]])
+    tokens = model.backbone.image_tokens(batch["pixel_values"])
+    assert tokens.shape[1] == len(cfg.inputs.cameras) * 16  # 32 px / 8 px patches per camera
+    state_dims = {"wrist_pose": 6, "grasp_point": 3, "goal_point": 3}
+    expected = sum(state_dims[s] for s in cfg.inputs.states)
+    if expected:
+        assert model.state_encoder.mlp[0].in_features == expected == batch["state"].shape[1]
+    else:
+        assert model.state_encoder is None and "state" not in batch
+
+
+def test_checkpoint_resume_and_policy(dataset_root, tmp_path):
+    cfg = tiny_cfg(dataset_root, tmp_path, ["train.steps=3", "train.save_every=2",
+                                            "inputs.states=[wrist_pose,grasp_point,goal_point]"])
+    first = train(cfg)
+    assert [p.name for p in sorted((tmp_path / "checkpoints").iterdir())] == ["step_00000002", "step_00000003"]
+    assert {"model.safetensors", "config.yaml", "normalizer.json", "tokenizer", "backbone_config.json"} <= {
+        p.name for p in first.checkpoint.iterdir()}
+    longer = tiny_cfg(dataset_root, tmp_path, ["train.steps=5", "inputs.states=[wrist_pose,grasp_point,goal_point]"])
+    resumed = train(longer)
+    assert len(resumed.losses) == 2  # steps 4 and 5 only
+    assert json.loads((resumed.checkpoint / "trainer_state.json").read_text()) == {"step": 5}
+
+    policy = VLAPolicy.load(resumed.checkpoint)
+    frame = open_dataset(cfg)[5]
+    images = {c: (frame[f"observation.images.{c}"].permute(1, 2, 0).numpy() * 255).astype(np.uint8)
+              for c in policy.cameras}
+    state = np.concatenate([frame[schema.WRIST_POSE_BASE], frame[schema.GRASP_POINT_BASE],
+                            frame[schema.GOAL_POINT_BASE]])
+    assert state.shape == (FULL_STATE_DIM,) and len(STATES) == 3
+    chunk = policy.predict_action_chunk(images, "open box", state, torch.Generator().manual_seed(0))
+    again = policy.predict_action_chunk(images, "open box", state, torch.Generator().manual_seed(0))
+    assert chunk.shape == (16, 7) and np.array_equal(chunk, again)
+    lo, hi = policy.processor.normalizer.quantiles[schema.ACTION_BASE]
+    assert np.all(chunk >= lo - 1e-5) and np.all(chunk <= hi + 1e-5)
+    # The reloaded weights are the trained ones.
+    trained = resumed.model.state_dict()
+    assert all(torch.equal(v, trained[k]) for k, v in policy.model.state_dict().items())
+    with pytest.raises(KeyError, match="wrist_depth"):
+        policy.predict_action_chunk({"head_rgb": images["head_rgb"]}, "open box", state)
+
+
+@pytest.mark.slow
+def test_overfitting_one_episode(tmp_path):
+    root = write_synthetic_dataset(tmp_path / "one", episodes=1, length=30)
+    cfg = tiny_cfg(root, tmp_path / "out", ["train.steps=500", "train.lr=1e-3", "train.batch_size=8",
+                                             "train.save_every=100000"])
+    losses = np.array(train(cfg).losses)
+    start, end = losses[:5].mean(), losses[-50:].mean()
+    print("mean loss per 50 steps:", np.round([losses[i:i + 50].mean() for i in range(0, 500, 50)], 3).tolist())
+    assert end < 0.1 * start, (start, end)
