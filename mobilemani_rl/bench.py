@@ -24,7 +24,7 @@ from mobilemani_rl.envs.config import EnvCfg, TaskCfg
 from mobilemani_rl.envs.mobilemani_env import MobileManiEnv
 
 
-def _interleaved_rates(steps: dict[str, Callable[[], None]], n: int, seconds: float, trials: int = 6,
+def interleaved_rates(steps: dict[str, Callable[[], None]], n: int, seconds: float, trials: int = 6,
                        ) -> dict[str, float]:
     """Best control-steps/s of each stepper; trials alternate between steppers so that background load
     drifts affect them alike."""
@@ -43,6 +43,16 @@ def _interleaved_rates(steps: dict[str, Callable[[], None]], n: int, seconds: fl
     return best
 
 
+def raw_physics_stepper(env: MobileManiEnv) -> Callable[[], None]:
+    """One control step's worth of physics for the env's compiled model, with no Python work per step: a fresh
+    `mujoco.batch.Batch` of the same size and threads, started from the env's current states."""
+    raw = mujoco.batch.Batch(env.model, env.num_envs, nthread=env.cfg.physics.nthread)
+    for field in ("qpos", "qvel", "ctrl", "mocap_pos", "mocap_quat"):
+        raw.bind(field)[:] = env.batch.bind(field)
+    substeps = env.cfg.physics.substeps
+    return lambda: raw.step(nstep=substeps)
+
+
 def bench_task(robot: str, num_envs: int, seconds: float, obj: str = "test/box", skill: str = "open") -> dict:
     env = MobileManiEnv(EnvCfg(num_envs=num_envs, task=TaskCfg(robot=robot, object=obj, skill=skill)))
     env.reset()
@@ -53,11 +63,8 @@ def bench_task(robot: str, num_envs: int, seconds: float, obj: str = "test/box",
     def env_step() -> None:
         env.step(actions[next(counter) % len(actions)])
 
-    raw = mujoco.batch.Batch(env.model, num_envs, nthread=env.cfg.physics.nthread)
-    for field in ("qpos", "qvel", "ctrl", "mocap_pos", "mocap_quat"):
-        raw.bind(field)[:] = env.batch.bind(field)
     substeps = env.cfg.physics.substeps
-    rates = _interleaved_rates({"env": env_step, "raw": lambda: raw.step(nstep=substeps)}, num_envs, seconds)
+    rates = interleaved_rates({"env": env_step, "raw": raw_physics_stepper(env)}, num_envs, seconds)
     env_rate, raw_rate = rates["env"], rates["raw"]
     return {
         "robot": robot, "num_envs": num_envs, "substeps": substeps, "timestep": env.model.opt.timestep,
