@@ -1,8 +1,10 @@
 """Train MobileManiVLA: python -m mobilemani_vla.train [robot=g1] [vla/model=tiny] [+experiment=ablation_...].
 
-Runs through `accelerate`: single process on a CPU, DDP/FSDP and bf16 on GPUs (`accelerate launch -m
-mobilemani_vla.train ...`). Checkpoints (safetensors + config + normaliser + tokenizer) go to
-train.output_dir/checkpoints; a run resumes from the newest one there unless train.resume=false.
+Runs through `accelerate`: single process on a CPU; on GPUs `accelerate launch --multi_gpu -m mobilemani_vla.train
+vla/model=paligemma2_3b vla/train=paper ...` (DDP, bf16 from train.mixed_precision), or an FSDP accelerate config
+with `fsdp_state_dict_type: FULL_STATE_DICT` so that checkpoints hold one model.safetensors. Checkpoints
+(safetensors + config + normaliser + tokenizer) go to train.output_dir/checkpoints; a run resumes from the
+newest one there unless train.resume=false.
 """
 
 from __future__ import annotations
@@ -28,7 +30,7 @@ from mobilemani_vla.checkpoint import (
     publish,
     save_artifacts,
 )
-from mobilemani_vla.config import VLACfg, vla_cfg_from_hydra
+from mobilemani_vla.config import VLACfg, vla_cfg_from_hydra, vla_cfg_from_yaml
 from mobilemani_vla.data import dataset_tasks, open_dataset
 from mobilemani_vla.model import MobileManiVLA, build_model
 from mobilemani_vla.normalizer import QuantileNormalizer
@@ -50,6 +52,19 @@ def _batches(loader: DataLoader):
         yield from loader
 
 
+def _resume_point(cfg: VLACfg, output_dir: Path) -> Path | None:
+    """The newest checkpoint to continue from; one of another model/input/diffusion setup is refused."""
+    found = finished_checkpoints(output_dir) if cfg.train.resume else []
+    if not found:
+        return None
+    saved = vla_cfg_from_yaml((found[-1] / "config.yaml").read_text())
+    fields = ("robot", "model", "inputs", "diffusion")
+    if any(getattr(saved, f) != getattr(cfg, f) for f in fields):
+        raise ValueError(f"{found[-1]} was trained with a different {'/'.join(fields)} config; choose another "
+                         "train.output_dir or set train.resume=false")
+    return found[-1]
+
+
 def train(cfg: VLACfg) -> TrainResult:
     os.environ.setdefault("WANDB_MODE", "offline")
     output_dir = Path(cfg.train.output_dir)
@@ -62,8 +77,7 @@ def train(cfg: VLACfg) -> TrainResult:
                          f"{accelerator.num_processes} processes")
 
     dataset = open_dataset(cfg)
-    resume_from = finished_checkpoints(output_dir)[-1] if cfg.train.resume and finished_checkpoints(output_dir) \
-        else None
+    resume_from = _resume_point(cfg, output_dir)
     if resume_from is not None:  # tokenizer and normaliser stay those the weights were trained with
         tokenizer = load_tokenizer(resume_from / "tokenizer")
         normalizer = QuantileNormalizer.load(resume_from / "normalizer.json")

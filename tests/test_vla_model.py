@@ -134,3 +134,18 @@ def test_word_tokenizer_is_deterministic_and_round_trips(tmp_path):
     again = load_tokenizer(tmp_path)
     assert again("pick cracker box").input_ids == a("pick cracker box").input_ids
     assert again.padding_side == "left" and np.all(np.array(ids) < 128)
+
+
+def test_backbone_and_tokenizer_load_from_a_local_pretrained_directory(tmp_path):
+    from transformers import PaliGemmaForConditionalGeneration
+
+    torch.manual_seed(1)
+    saved = PaliGemmaForConditionalGeneration(paligemma_config(ModelCfg()))
+    saved.save_pretrained(tmp_path)
+    build_word_tokenizer().save_pretrained(tmp_path)
+    cfg = compose_vla([f"model.pretrained_path={tmp_path}", f"model.tokenizer_path={tmp_path}"])
+    model = build_model(cfg, load_tokenizer(cfg.model.tokenizer_path))
+    for name, value in saved.model.state_dict().items():
+        assert torch.equal(model.backbone.vlm.state_dict()[name], value), name
+    with pytest.raises(FileNotFoundError, match="pretrained_path"):
+        build_model(compose_vla([f"model.pretrained_path={tmp_path / 'missing'}"]), build_word_tokenizer())

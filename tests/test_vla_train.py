@@ -54,6 +54,7 @@ def test_forward_backward_on_a_dataset_batch(dataset_root, tmp_path):
     loss = model(batch)
     assert torch.isfinite(loss)
     torch.nn.init.normal_(model.head.dit.out.weight, std=0.02)  # zero-initialised: no gradient flows back yet
+    model.backbone.vlm.gradient_checkpointing_enable()  # the paper config's memory saver keeps gradients flowing
     model(batch).backward()
     for part in (model.backbone.vlm.vision_tower, model.backbone.vlm.language_model, model.head.dit.blocks,
                  model.state_encoder):
@@ -93,6 +94,9 @@ def test_checkpoint_resume_and_policy(dataset_root, tmp_path):
     resumed = train(longer)
     assert len(resumed.losses) == 2  # steps 4 and 5 only
     assert json.loads((resumed.checkpoint / "trainer_state.json").read_text()) == {"step": 5}
+
+    with pytest.raises(ValueError, match="different"):  # same output_dir, other inputs
+        train(tiny_cfg(dataset_root, tmp_path, ["train.steps=6"]))
 
     policy = VLAPolicy.load(resumed.checkpoint)
     frame = open_dataset(cfg)[5]
