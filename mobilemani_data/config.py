@@ -59,6 +59,7 @@ class ExportCfg:
     crf: int = 30
     gop: int = 2  # keyframe interval: small so random frame access stays cheap
     preset: int | None = None  # None: the codec's default
+    streaming_encoding: bool = True  # encode frames as they come (no temporary PNGs)
     action_convention: str = "conjugate"  # base_frame.Convention; "reference": the released data's quirk (§10.3)
     overwrite: bool = False
 

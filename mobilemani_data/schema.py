@@ -3,6 +3,11 @@
 Feature names, shapes and meanings. Images are stored as videos (H, W, 3) uint8; depth is the ray distance
 clipped to 0–5 m and scaled to 0–255, replicated to 3 channels; segmentation is object = 1, robot = 2,
 background = 0, scaled by SEGMENTATION_SCALE so the classes survive lossy video.
+
+Frames are the recorded control steps t = 1 … T-1 of an episode (reference §8d: neither the reset nor the terminal
+state). Action labels are aligned at export (reference §8g): `action` / `action_base` of frame t is the action the
+teacher took after seeing frame t (applied from state t, leading to t+1), so a reader uses them as they are; the
+last frame's label is the episode's final action (no duplication needed).
 """
 
 from __future__ import annotations
@@ -15,12 +20,18 @@ SEGMENTATION_SCALE = 100  # label * 100 in every channel: 0, 100, 200
 
 STATE = "observation.state"  # world: hand pos (3), hand RPY (3), base pos (3), base RPY (3), hand joints (nh)
 WRIST_POSE_BASE = "observation.wrist_pose_base"  # hand pos + RPY in the base frame (6)
-GRASP_POINT_BASE = "observation.grasp_point_base"  # first frame's grasp point in the base frame (3)
-GOAL_POINT_BASE = "observation.goal_point_base"  # first frame's goal point in the base frame (3)
-ACTION = "action"  # world-frame normalised action as applied (7 g1 / 18 xhand)
-ACTION_BASE = "action_base"  # the same action in the base frame (mobilemani_rl.base_frame)
+# The episode's initial (reset-state) grasp point and its goal point: fixed world points, expressed in each frame's
+# current base frame (the base moves during the episode).
+GRASP_POINT_BASE = "observation.grasp_point_base"  # (3)
+GOAL_POINT_BASE = "observation.goal_point_base"  # (3)
+ACTION = "action"  # world-frame normalised action as applied, clamped to [-1, 1] (7 g1 / 18 xhand); label of frame
+ACTION_BASE = "action_base"  # the same action in the frame's base frame (mobilemani_rl.base_frame, same index)
 
 EPISODE_METADATA = ("robot", "object_id", "category", "skill", "scene", "split", "seed")
+# One JSON line per episode_index with EPISODE_METADATA plus scene_split, instruction, teacher, length, and the
+# raw shard it came from; written by mobilemani_data.export next to LeRobot's own metadata.
+EPISODES_FILE = "meta/mobilemani_episodes.jsonl"
+EXPORT_REPORT_FILE = "meta/mobilemani_export.json"  # image size, codec, action convention, skipped shards
 
 
 def image_key(camera: str, modality: str) -> str:

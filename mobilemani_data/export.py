@@ -1,0 +1,139 @@
+"""Replay raw shards, render head and wrist cameras, and write a LeRobot v3 dataset:
+
+    python -m mobilemani_data.export robot=g1 [export.width=224 export.height=224] [export.overwrite=true]
+
+The dataset is written next to its final place and renamed when finalized, so an interrupted export never
+looks complete. A shard that cannot be read is reported by name and left out; the others are exported.
+Episode metadata (robot, object, category, skill, scene, split, ...) goes to `schema.EPISODES_FILE`.
+"""
+
+from __future__ import annotations
+
+import json
+import shutil
+import sys
+import time
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import hydra
+from lerobot.configs.video import RGBEncoderConfig
+from lerobot.datasets.lerobot_dataset import LeRobotDataset
+from omegaconf import DictConfig
+
+from mobilemani_data import schema
+from mobilemani_data.config import DataCfg, ExportCfg, data_cfg_from_hydra
+from mobilemani_data.convert import FIRST_FRAME, camera_images, episode_vectors
+from mobilemani_data.replay import Replayer
+from mobilemani_data.shards import Shard, ShardError, read_shard, shard_paths
+from mobilemani_rl.assets.robots import RobotDescription, get_robot
+from mobilemani_rl.render import CameraRenderCfg, CameraRenderer
+
+PARTIAL = ".partial"
+
+
+@dataclass
+class ExportReport:
+    root: Path
+    episodes: int = 0
+    frames: int = 0
+    skipped: list[str] = field(default_factory=list)  # one message per shard left out
+    render_s: float = 0.0
+    total_s: float = 0.0
+
+
+def create_dataset(root: Path, robot: RobotDescription, cfg: ExportCfg) -> LeRobotDataset:
+    features = schema.features(robot.action_dim, len(robot.hand_joints), cfg.height, cfg.width)
+    encoder = RGBEncoderConfig(vcodec=cfg.vcodec, crf=cfg.crf, g=cfg.gop, preset=cfg.preset)
+    return LeRobotDataset.create(cfg.repo_id, fps=schema.FPS, features=features, root=root, robot_type=robot.name,
+                                 use_videos=True, video_backend="pyav", rgb_encoder=encoder,
+                                 streaming_encoding=cfg.streaming_encoding)
+
+
+def camera_names(robot: RobotDescription) -> dict[str, str]:
+    """Schema camera -> the robot's MuJoCo camera."""
+    return dict(zip(schema.CAMERAS, (robot.head_camera, robot.wrist_camera), strict=True))
+
+
+def add_shard(ds: LeRobotDataset, shard: Shard, robot: RobotDescription, cfg: ExportCfg, raw_dir: Path,
+              report: ExportReport) -> list[dict]:
+    """Render and save every episode of a shard; returns their metadata lines."""
+    replayer = Replayer(shard)
+    cameras = camera_names(robot)
+    renderer = CameraRenderer(replayer.model, CameraRenderCfg(width=cfg.width, height=cfg.height,
+                                                              cameras=tuple(cameras.values())))
+    lines = []
+    try:
+        for k, episode in enumerate(shard.episodes):
+            vectors = episode_vectors(episode, len(robot.hand_joints), cfg.action_convention)
+            for i, state in enumerate(episode.arrays["state"][FIRST_FRAME:]):
+                start = time.perf_counter()
+                frame = camera_images(renderer, replayer, state, cameras)
+                report.render_s += time.perf_counter() - start
+                frame.update({name: values[i] for name, values in vectors.items()})
+                frame["task"] = shard.header["instruction"]
+                ds.add_frame(frame)
+            ds.save_episode()
+            length = episode.length - FIRST_FRAME
+            lines.append({"episode_index": report.episodes, **{key: shard.header[key] for key in schema.EPISODE_METADATA},
+                          "scene_split": shard.header["scene_split"], "instruction": shard.header["instruction"],
+                          "teacher": shard.header["teacher"], "length": length,
+                          "shard": str(shard.path.relative_to(raw_dir)), "shard_episode": k,
+                          "env_slot": episode.attrs["env_slot"], "round": episode.attrs["round"]})
+            report.episodes += 1
+            report.frames += length
+    finally:
+        renderer.close()
+    return lines
+
+
+def export(cfg: DataCfg) -> ExportReport:
+    robot = get_robot(cfg.robot)
+    raw_dir, root = Path(cfg.raw_dir), Path(cfg.dataset_dir)
+    if root.exists() and not cfg.export.overwrite:
+        raise FileExistsError(f"{root} exists; pass export.overwrite=true to replace it")
+    paths = shard_paths(raw_dir, robot.name)
+    if not paths:
+        raise FileNotFoundError(f"no shards under {raw_dir / robot.name} (run python -m mobilemani_data.collect)")
+    tmp = root.with_name(root.name + PARTIAL)
+    shutil.rmtree(tmp, ignore_errors=True)
+    report = ExportReport(root)
+    start = time.perf_counter()
+    ds = create_dataset(tmp, robot, cfg.export)
+    lines: list[dict] = []
+    for path in paths:
+        try:
+            shard = read_shard(path)
+        except ShardError as err:
+            report.skipped.append(str(err))
+            print(f"skipped shard {err}", file=sys.stderr, flush=True)
+            continue
+        lines += add_shard(ds, shard, robot, cfg.export, raw_dir, report)
+        print(f"{path.relative_to(raw_dir)}: {len(shard.episodes)} episodes", flush=True)
+    ds.finalize()
+    if not lines:
+        shutil.rmtree(tmp)
+        raise ShardError(f"no readable shard under {raw_dir / robot.name}: {report.skipped}")
+    (tmp / schema.EPISODES_FILE).write_text("".join(json.dumps(line) + "\n" for line in lines))
+    report.total_s = time.perf_counter() - start
+    (tmp / schema.EXPORT_REPORT_FILE).write_text(json.dumps(
+        {"episodes": report.episodes, "frames": report.frames, "skipped": report.skipped,
+         "width": cfg.export.width, "height": cfg.export.height, "vcodec": cfg.export.vcodec,
+         "action_convention": cfg.export.action_convention}, indent=2))
+    if root.exists():
+        shutil.rmtree(root)
+    tmp.rename(root)
+    return report
+
+
+@hydra.main(config_path="../conf", config_name="data", version_base="1.3")
+def main(cfg: DictConfig) -> None:
+    report = export(data_cfg_from_hydra(cfg))
+    print(f"{report.root}: {report.episodes} episodes, {report.frames} frames in {report.total_s:.1f} s "
+          f"({report.frames / max(report.total_s, 1e-9):.1f} frames/s); {len(report.skipped)} shards skipped")
+    if report.skipped:
+        sys.exit(1)
+
+
+if __name__ == "__main__":
+    main()

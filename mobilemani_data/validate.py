@@ -1,0 +1,116 @@
+"""Check raw shards and the exported LeRobot dataset:
+
+    python -m mobilemani_data.validate robot=g1 [validate.replay_episodes=2]
+
+Shards: readable, complete, consistent. Replay: for a sample of episodes, the world poses recomputed from each
+recorded state and the states reached by re-stepping the physics equal the recorded ones within the tolerance.
+Dataset: features as the schema says, one metadata line per episode, frame counts equal to the shards', frames
+decodable. Prints every problem (each naming its file) and exits non-zero if there is any.
+"""
+
+from __future__ import annotations
+
+import sys
+from pathlib import Path
+
+import hydra
+import numpy as np
+from lerobot.datasets.dataset_metadata import LeRobotDatasetMetadata
+from lerobot.datasets.lerobot_dataset import LeRobotDataset
+from omegaconf import DictConfig
+
+from mobilemani_data import schema
+from mobilemani_data.config import DataCfg, ValidateCfg, data_cfg_from_hydra
+from mobilemani_data.convert import FIRST_FRAME
+from mobilemani_data.metadata import read_episodes, read_export_report
+from mobilemani_data.replay import Replayer
+from mobilemani_data.shards import Shard, ShardError, read_shard, shard_paths
+from mobilemani_rl.assets.robots import get_robot
+
+
+def read_shards(raw_dir: Path, robot: str) -> tuple[list[Shard], list[str]]:
+    shards, problems = [], []
+    for path in shard_paths(raw_dir, robot):
+        try:
+            shards.append(read_shard(path))
+        except ShardError as err:
+            problems.append(str(err))
+    return shards, problems
+
+
+def check_replay(shards: list[Shard], cfg: ValidateCfg) -> tuple[list[str], float]:
+    """Replay the first episode of as many shards as `replay_episodes` asks for; returns problems, worst error."""
+    problems, worst = [], 0.0
+    for shard in shards[:cfg.replay_episodes]:
+        errors = Replayer(shard).check(shard.episodes[0])
+        worst = max(worst, errors.worst())
+        if errors.worst() > cfg.tolerance:
+            problems.append(f"{shard.path}: episode 0 replays with error {errors} > {cfg.tolerance}")
+    return problems, worst
+
+
+def check_dataset(root: Path, repo_id: str, raw_dir: Path, robot_name: str, shards: list[Shard], cfg: ValidateCfg,
+                  ) -> list[str]:
+    robot = get_robot(robot_name)
+    report = read_export_report(root)
+    meta = LeRobotDatasetMetadata(repo_id, root=root)
+    problems = []
+    expected = schema.features(robot.action_dim, len(robot.hand_joints), report["height"], report["width"])
+    for name, spec in expected.items():
+        found = meta.features.get(name)
+        if found is None or tuple(found["shape"]) != spec["shape"] or found["dtype"] != spec["dtype"]:
+            problems.append(f"{root}: feature {name} is {found and (found['dtype'], found['shape'])}, "
+                            f"schema says {(spec['dtype'], spec['shape'])}")
+    episodes = read_episodes(root)
+    if len(episodes) != meta.total_episodes:
+        problems.append(f"{root}: {len(episodes)} metadata lines for {meta.total_episodes} episodes")
+    lengths = dict(zip(meta.episodes["episode_index"], meta.episodes["length"], strict=True))
+    by_name = {str(s.path.relative_to(raw_dir)): s for s in shards}
+    for line in episodes:
+        i = line["episode_index"]
+        missing = [k for k in schema.EPISODE_METADATA if k not in line]
+        shard = by_name.get(line["shard"])
+        if missing:
+            problems.append(f"{root}: episode {i} lacks metadata {missing}")
+        if lengths.get(i) != line["length"]:
+            problems.append(f"{root}: episode {i} has {lengths.get(i)} frames, metadata says {line['length']}")
+        if shard is not None and shard.episodes[line["shard_episode"]].length - FIRST_FRAME != line["length"]:
+            problems.append(f"{root}: episode {i} length differs from its shard {line['shard']}")
+    if meta.total_frames != sum(line["length"] for line in episodes):
+        problems.append(f"{root}: {meta.total_frames} frames, metadata lengths sum to another count")
+    ds = LeRobotDataset(meta.repo_id, root=root, video_backend="pyav")
+    for index in np.linspace(0, len(ds) - 1, cfg.decode_frames).round().astype(int):
+        frame = ds[int(index)]
+        for camera in schema.CAMERAS:
+            for modality in schema.MODALITIES:
+                shape = tuple(frame[schema.image_key(camera, modality)].shape)
+                if shape != (3, report["height"], report["width"]):
+                    problems.append(f"{root}: frame {index} {camera}_{modality} decodes to {shape}")
+    return problems
+
+
+def validate(cfg: DataCfg) -> list[str]:
+    raw_dir, root = Path(cfg.raw_dir), Path(cfg.dataset_dir)
+    shards, problems = read_shards(raw_dir, cfg.robot)
+    print(f"{len(shards)} readable shards, {sum(len(s.episodes) for s in shards)} episodes under {raw_dir}")
+    replay_problems, worst = check_replay(shards, cfg.validate)
+    problems += replay_problems
+    print(f"replay of {min(len(shards), cfg.validate.replay_episodes)} episodes: largest error {worst:.3g}")
+    if root.exists():
+        problems += check_dataset(root, cfg.export.repo_id, raw_dir, cfg.robot, shards, cfg.validate)
+    else:
+        print(f"no dataset at {root}; checked the shards only")
+    return problems
+
+
+@hydra.main(config_path="../conf", config_name="data", version_base="1.3")
+def main(cfg: DictConfig) -> None:
+    problems = validate(data_cfg_from_hydra(cfg))
+    for problem in problems:
+        print(f"PROBLEM {problem}", file=sys.stderr)
+    print("valid" if not problems else f"{len(problems)} problems")
+    sys.exit(1 if problems else 0)
+
+
+if __name__ == "__main__":
+    main()
