@@ -44,17 +44,26 @@ class VLAPolicy:
         """images: camera name ("head_rgb", "wrist_depth", ...) -> (H, W, 3) uint8, at least this policy's
         cameras; state: (12,) wrist pose (6), first-frame grasp point (3), goal point (3), all in the base frame.
         Returns (chunk, action_dim) base-frame actions in the dataset's units."""
+        batched = {c: np.asarray(v)[None] for c, v in images.items()}
+        return self.predict_action_chunks(batched, [instruction], np.asarray(state)[None], generator)[0]
+
+    def predict_action_chunks(self, images: dict[str, np.ndarray], instructions: list[str], states: np.ndarray,
+                              generator: torch.Generator | None = None) -> np.ndarray:
+        """Batched `predict_action_chunk`: images (B, H, W, 3), B instructions, states (B, 12) -> (B, chunk, A)."""
         missing = [c for c in self.cameras if c not in images]
         if missing:
             raise KeyError(f"missing camera images {missing}; this policy reads {self.cameras}")
-        state = np.asarray(state, np.float32)
-        if state.shape != (FULL_STATE_DIM,):
-            raise ValueError(f"state must have shape ({FULL_STATE_DIM},) (wrist pose, grasp point, goal point), "
-                             f"got {state.shape}")
-        frame = {camera_key(c): torch.from_numpy(np.ascontiguousarray(images[c])).permute(2, 0, 1).float() / 255.0
-                 for c in self.cameras}
-        frame.update({STATE_KEYS[s]: torch.from_numpy(state[STATE_SLICES[s]]) for s in self.cfg.inputs.states})
-        frame["task"] = instruction
-        batch = {k: v.to(self.device) for k, v in self.processor([frame]).items()}
-        chunk = self.model.predict(batch, generator)[0]
-        return self.processor.normalizer.unnormalize(schema.ACTION_BASE, chunk).cpu().numpy()
+        states = np.asarray(states, np.float32)
+        if states.shape != (len(instructions), FULL_STATE_DIM):
+            raise ValueError(f"states must have shape (batch, {FULL_STATE_DIM}) (wrist pose, grasp point, goal "
+                             f"point), got {states.shape}")
+        frames = []
+        for i, instruction in enumerate(instructions):
+            frame = {camera_key(c): torch.from_numpy(np.ascontiguousarray(images[c][i])).permute(2, 0, 1).float()
+                     / 255.0 for c in self.cameras}
+            frame.update({STATE_KEYS[s]: torch.from_numpy(states[i, STATE_SLICES[s]]) for s in self.cfg.inputs.states})
+            frame["task"] = instruction
+            frames.append(frame)
+        batch = {k: v.to(self.device) for k, v in self.processor(frames).items()}
+        chunks = self.model.predict(batch, generator)
+        return self.processor.normalizer.unnormalize(schema.ACTION_BASE, chunks).cpu().numpy()

@@ -1,0 +1,100 @@
+"""Closed-loop evaluation of any policy on MobileManiBench (paper §4, reference §9).
+
+    python -m mobilemani_vla.evaluate robot=g1 policy.checkpoint=outputs/vla/g1/default/tiny/checkpoints/step_X
+    python -m mobilemani_vla.evaluate eval/policy=scripted eval/protocol=ablation eval/split=seen_unseen
+    make eval ROBOT=g1 CHECKPOINT=<dir>
+
+Protocol: every (object, skill, scene) combination of the selected object split x scene split (default: test
+objects x test scenes), `subset.episodes` episodes each (10), 300 control steps, success when the grasp point
+comes within 5 cm of the goal. Episodes of a combination run as env batches of `episodes_per_batch`; each batch's
+env seed comes from (seed, robot, object, skill, scene, block), so episode e of a combination is always the same
+start state. Results: <output_dir>/<robot>/<name>/<split>.jsonl (one record per episode, resumable), a summary
+JSON next to it (per skill, per category), and head-camera MP4s of the first `video_episodes` episodes.
+"""
+
+from __future__ import annotations
+
+import json
+import time
+import zlib
+from pathlib import Path
+
+import hydra
+from omegaconf import DictConfig, OmegaConf
+
+from mobilemani_data.combos import Combination, select_combinations
+from mobilemani_data.config import recording_env_cfg
+from mobilemani_rl.envs.config import TaskCfg
+from mobilemani_rl.envs.mobilemani_env import MobileManiEnv
+from mobilemani_rl.eval import HeadCameraRecorder
+from mobilemani_rl.rl.run_dir import write_json_atomic
+from mobilemani_vla.eval_config import EvalCfg, eval_cfg_from_hydra
+from mobilemani_vla.harness import run_batch
+from mobilemani_vla.policies.base import EvalPolicy
+from mobilemani_vla.policies.factory import build_policy
+from mobilemani_vla.results import ResultsFile, read_records, summarize
+
+
+def batch_seed(combo: Combination, base: int, block: int) -> int:
+    return (base * 1_000_003 + zlib.crc32(f"{combo.name}/{block}".encode())) % 2**31
+
+
+def run_dir(cfg: EvalCfg) -> Path:
+    return Path(cfg.output_dir) / cfg.robot / cfg.name
+
+
+def evaluate_block(cfg: EvalCfg, policy: EvalPolicy, combo: Combination, block: int) -> list[dict]:
+    size = cfg.episodes_per_batch
+    seed = batch_seed(combo, cfg.seed, block)
+    env = MobileManiEnv(recording_env_cfg(cfg.env, TaskCfg(combo.robot, combo.object_id, combo.skill, combo.scene),
+                                          size, seed))
+    recorder = HeadCameraRecorder(env, cfg.video_episodes - block * size) \
+        if cfg.video_episodes > block * size else None
+    stats = run_batch(env, policy, seed, combo.instruction, cfg.ensemble, tuple(cfg.image_size),
+                      cfg.action_convention, recorder)
+    if recorder is not None:
+        recorder.write(run_dir(cfg) / "videos" / cfg.split_name / combo.name.replace("/", "_") / f"block_{block}")
+    returns = sum(stats.reward_terms.values())
+    return [{"robot": combo.robot, "object_id": combo.object_id, "category": combo.category, "skill": combo.skill,
+             "scene": combo.scene, "split": combo.split, "scene_split": combo.scene_split,
+             "instruction": combo.instruction, "policy": policy.name, "episode": block * size + slot,
+             "seed": seed, "slot": slot, "success": bool(stats.success[slot]), "length": int(stats.length[slot]),
+             "return": float(returns[slot])} for slot in range(size)]
+
+
+def evaluate(cfg: EvalCfg, policy: EvalPolicy | None = None) -> dict:
+    """Run every missing episode of the selected protocol; returns the summary of the results file."""
+    if cfg.subset.episodes % cfg.episodes_per_batch:
+        raise ValueError(f"subset.episodes ({cfg.subset.episodes}) must be a multiple of episodes_per_batch "
+                         f"({cfg.episodes_per_batch}) so that every episode keeps its seed")
+    combos = select_combinations(cfg.robot, cfg.subset)
+    policy = policy or build_policy(cfg.policy)
+    out = run_dir(cfg)
+    results = ResultsFile(out / f"{cfg.split_name}.jsonl")
+    write_json_atomic(out / "config.json", {"eval": OmegaConf.to_container(OmegaConf.structured(cfg)),
+                                            "policy_inputs": sorted(policy.inputs)})
+    blocks = cfg.subset.episodes // cfg.episodes_per_batch
+    for k, combo in enumerate(combos):
+        for block in range(blocks):
+            keys = {(combo.robot, combo.object_id, combo.skill, combo.scene, block * cfg.episodes_per_batch + s)
+                    for s in range(cfg.episodes_per_batch)}
+            if keys <= results.done:
+                continue
+            start = time.perf_counter()
+            records = evaluate_block(cfg, policy, combo, block)
+            results.append(records)
+            rate = sum(r["success"] for r in records) / len(records)
+            print(f"[{k + 1}/{len(combos)}] {combo.name} block {block}: success {rate:.2f} "
+                  f"({time.perf_counter() - start:.1f} s)", flush=True)
+    summary = summarize(read_records(results.path))
+    write_json_atomic(out / f"{cfg.split_name}.summary.json", summary)
+    return summary
+
+
+@hydra.main(config_path="../conf", config_name="eval", version_base="1.3")
+def main(cfg: DictConfig) -> None:
+    print(json.dumps(evaluate(eval_cfg_from_hydra(cfg))["overall"], indent=2))
+
+
+if __name__ == "__main__":
+    main()

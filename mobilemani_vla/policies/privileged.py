@@ -1,0 +1,84 @@
+"""Reference policies with privileged access to the simulator: the scripted policy, PPO teachers, random actions.
+
+They act in the world frame with chunks of one action, so the ensemble reduces to executing that action.
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+import torch
+from omegaconf import OmegaConf
+from tensordict import TensorDict
+
+from mobilemani_rl.envs.mobilemani_env import MobileManiEnv
+from mobilemani_rl.rl.factory import build_runner
+from mobilemani_rl.rl.run_dir import CONFIG, latest_checkpoint
+from mobilemani_rl.scripted import ScriptedPolicy
+from mobilemani_vla.policies.base import PRIVILEGED_STATE, EvalPolicy, Observation
+
+
+class ScriptedEvalPolicy(EvalPolicy):
+    """mobilemani_rl.scripted, which reads the task state of the env it is bound to."""
+
+    name = "scripted"
+
+    def start(self, env: MobileManiEnv, seed: int) -> None:
+        self.policy = ScriptedPolicy(env)
+
+    def act(self, obs: Observation) -> np.ndarray:
+        return self.policy()[:, None]
+
+
+class RandomPolicy(EvalPolicy):
+    """Uniform actions in [-1, 1]: the floor every benchmark entrant should beat."""
+
+    name = "random"
+    inputs = frozenset({PRIVILEGED_STATE})  # read only for the batch size
+
+    def start(self, env: MobileManiEnv, seed: int) -> None:
+        self.rng = np.random.default_rng(seed)
+        self.action_dim = env.num_actions
+
+    def act(self, obs: Observation) -> np.ndarray:
+        return self.rng.uniform(-1.0, 1.0, size=(len(obs[PRIVILEGED_STATE]), 1, self.action_dim))
+
+
+class TeacherEvalPolicy(EvalPolicy):
+    """Deterministic actor of a PPO checkpoint on the privileged RL observation.
+
+    `checkpoint` fixes one checkpoint; otherwise each task uses the newest model_*.pt under
+    <runs_dir>/<robot>/<object>/<skill> (the layout of mobilemani_rl.train).
+    """
+
+    name = "teacher"
+    inputs = frozenset({PRIVILEGED_STATE})
+
+    def __init__(self, checkpoint: str | None = None, runs_dir: str = "runs/rl") -> None:
+        self.checkpoint = None if checkpoint is None else Path(checkpoint)
+        self.runs_dir = Path(runs_dir)
+        self.loaded: Path | None = None
+
+    def _checkpoint_for(self, env: MobileManiEnv) -> Path:
+        if self.checkpoint is not None:
+            found = self.checkpoint
+        else:
+            task = env.cfg.task
+            found = latest_checkpoint(self.runs_dir / task.robot / task.object / task.skill)
+        if found is None or not found.is_file():
+            raise FileNotFoundError(f"no teacher checkpoint for {env.cfg.task} (checkpoint={self.checkpoint}, "
+                                    f"runs_dir={self.runs_dir})")
+        return found
+
+    def start(self, env: MobileManiEnv, seed: int) -> None:
+        checkpoint = self._checkpoint_for(env)
+        if checkpoint != self.loaded:
+            runner = build_runner(OmegaConf.load(checkpoint.parent / CONFIG), run_dir=None, env=env)
+            runner.load(str(checkpoint))
+            self.actor, self.loaded = runner.get_inference_policy(), checkpoint
+
+    @torch.inference_mode()
+    def act(self, obs: Observation) -> np.ndarray:
+        state = torch.as_tensor(obs[PRIVILEGED_STATE])
+        return self.actor(TensorDict({"policy": state}, batch_size=[len(state)])).numpy()[:, None]

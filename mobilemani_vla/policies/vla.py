@@ -1,0 +1,42 @@
+"""MobileManiVLA as an evaluation policy: its cameras and base-frame states in, base-frame action chunks out."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+import torch
+
+from mobilemani_rl.envs.mobilemani_env import MobileManiEnv
+from mobilemani_vla.config import STATES
+from mobilemani_vla.policies.base import TASK, EvalPolicy, Observation, active_rows, scatter_rows
+from mobilemani_vla.policy import VLAPolicy
+from mobilemani_vla.processor import STATE_KEYS, camera_key
+
+
+class VLAEvalPolicy(EvalPolicy):
+    name = "vla"
+    action_frame = "base"
+
+    def __init__(self, checkpoint: str | Path, device: str = "cpu", batch_size: int = 16) -> None:
+        if not Path(checkpoint, "model.safetensors").is_file():
+            raise FileNotFoundError(f"no VLA checkpoint (model.safetensors) in {checkpoint}")
+        self.policy = VLAPolicy.load(checkpoint, device)
+        self.batch_size = batch_size
+        # States are cheap (no rendering): all three are always built; the model reads its configured ones.
+        self.inputs = frozenset({camera_key(c) for c in self.policy.cameras} | {STATE_KEYS[s] for s in STATES}
+                                | {TASK})
+
+    def start(self, env: MobileManiEnv, seed: int) -> None:
+        self.generator = torch.Generator().manual_seed(seed)  # diffusion noise, reproducible per batch
+
+    def act(self, obs: Observation) -> np.ndarray:
+        rows = active_rows(obs)
+        states = np.concatenate([obs[STATE_KEYS[s]] for s in STATES], axis=1)
+        chunks = []
+        for part in np.array_split(rows, max(1, -(-len(rows) // self.batch_size))):
+            if part.size:
+                images = {c: obs[camera_key(c)][part] for c in self.policy.cameras}
+                chunks.append(self.policy.predict_action_chunks(images, [obs[TASK][i] for i in part],
+                                                                states[part], self.generator))
+        return scatter_rows(rows, np.concatenate(chunks), len(obs[TASK]))

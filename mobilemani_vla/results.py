@@ -1,0 +1,94 @@
+"""Evaluation results: one JSON record per episode in a JSONL file, resumable, and their summaries.
+
+A record's key is (robot, object_id, skill, scene, episode); a rerun skips keys already present and appends the
+rest. A line cut off by a killed run is dropped before appending, so the file never holds a broken record.
+Success rates follow the reference's metric (`load_vla_test_success`): per object first, then the mean (and std)
+over objects, for each skill, category, (category, skill group) and overall.
+"""
+
+from __future__ import annotations
+
+import json
+import os
+from collections import defaultdict
+from collections.abc import Iterable
+from pathlib import Path
+
+import numpy as np
+
+Key = tuple[str, str, str, str, int]
+# The paper's per-category table groups skills by their motion: grasp-and-move vs. push-to-close.
+SKILL_GROUPS = {"open": "open/pull/pick", "pull": "open/pull/pick", "pick": "open/pull/pick",
+                "close": "close/push", "push": "close/push"}
+
+
+def record_key(record: dict) -> Key:
+    return (record["robot"], record["object_id"], record["skill"], record["scene"], int(record["episode"]))
+
+
+def read_records(path: Path) -> list[dict]:
+    if not path.exists():
+        return []
+    records = []
+    for line in path.read_text().splitlines():
+        try:
+            records.append(json.loads(line))
+        except json.JSONDecodeError:
+            continue  # the cut-off last line of a killed run; `ResultsFile` drops it before appending
+    return records
+
+
+class ResultsFile:
+    def __init__(self, path: Path) -> None:
+        self.path = path
+        path.parent.mkdir(parents=True, exist_ok=True)
+        self._drop_partial_line()
+        self.done = {record_key(r) for r in read_records(path)}
+
+    def _drop_partial_line(self) -> None:
+        if not self.path.exists():
+            return
+        data = self.path.read_bytes()
+        if data and not data.endswith(b"\n"):
+            tmp = self.path.with_name(self.path.name + ".tmp")
+            tmp.write_bytes(data[:data.rfind(b"\n") + 1])
+            os.replace(tmp, self.path)
+
+    def append(self, records: Iterable[dict]) -> int:
+        """Append records whose key is new; returns how many were written."""
+        new = [r for r in records if record_key(r) not in self.done]
+        if new:
+            with self.path.open("a") as f:
+                f.write("".join(json.dumps(r, sort_keys=True) + "\n" for r in new))
+                f.flush()
+                os.fsync(f.fileno())
+            self.done.update(record_key(r) for r in new)
+        return len(new)
+
+
+def _over_objects(records: list[dict]) -> dict:
+    per_object: dict[str, list[bool]] = defaultdict(list)
+    for r in records:
+        per_object[r["object_id"]].append(bool(r["success"]))
+    rates = np.array([np.mean(v) for v in per_object.values()])
+    return {"success_rate": float(rates.mean()), "std_over_objects": float(rates.std()),
+            "objects": len(rates), "episodes": len(records)}
+
+
+def _grouped(records: list[dict], key) -> dict[str, dict]:
+    groups: dict[str, list[dict]] = defaultdict(list)
+    for r in records:
+        groups[key(r)].append(r)
+    return {name: _over_objects(group) for name, group in sorted(groups.items())}
+
+
+def summarize(records: list[dict]) -> dict:
+    if not records:
+        return {"episodes": 0}
+    return {
+        "overall": _over_objects(records),
+        "per_skill": _grouped(records, lambda r: r["skill"]),
+        "per_category": _grouped(records, lambda r: r["category"]),
+        "per_category_skill_group": _grouped(records, lambda r: f"{r['category']}|{SKILL_GROUPS[r['skill']]}"),
+        "episodes": len(records),
+    }
