@@ -60,5 +60,21 @@ vla: setup
 bench-vla: setup
 	$(PY) -m mobilemani_vla.bench
 
+# MobileManiDataset (Hydra root conf/data.yaml): collect -> export -> validate -> stats for a subset:
+#   make data ROBOT=g1 [SUBSET=small|tiny|train|test TEACHER=scripted|ppo DATA_ARGS='export.width=224 export.height=224']
+SUBSET ?= small
+TEACHER ?= scripted
+DATA_ARGS ?=
+DATA_HYDRA = robot=$(ROBOT) data/subset=$(SUBSET) data/teacher=$(TEACHER) $(DATA_ARGS)
+.PHONY: data bench-data
+data: setup
+	$(PY) -m mobilemani_data.collect $(DATA_HYDRA)
+	$(PY) -m mobilemani_data.export $(DATA_HYDRA) export.overwrite=true
+	$(PY) -m mobilemani_data.validate $(DATA_HYDRA)
+	$(PY) -m mobilemani_data.stats $(DATA_HYDRA)
+
+bench-data: setup
+	$(PY) -m mobilemani_data.bench robot=$(ROBOT)
+
 clean-venv:
 	rm -rf $(VENV)

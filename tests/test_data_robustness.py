@@ -1,0 +1,63 @@
+"""Interrupted collection resumes without duplicates; corrupt shards are named and left out of the export."""
+
+import shutil
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+from data_helpers import tiny_cfg
+
+from mobilemani_data.collect import collect
+from mobilemani_data.export import export
+from mobilemani_data.metadata import read_episodes, read_export_report
+from mobilemani_data.shards import PARTIAL_SUFFIX, read_shard, shard_paths
+from mobilemani_data.validate import validate
+
+ROOT = Path(__file__).resolve().parents[1]
+# One object, both skills, both scenes: four shards.
+SUBSET = ["subset.objects=[dishwasher/0000]", "subset.episodes=2"]
+
+
+def test_killed_collection_reruns_to_exact_counts(tmp_path):
+    overrides = [f"data_dir={tmp_path}", "data/subset=tiny", *SUBSET, "collect.num_envs=8"]
+    proc = subprocess.Popen([sys.executable, "-m", "mobilemani_data.collect", *overrides], cwd=ROOT,
+                            stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+    raw = tmp_path / "raw"
+    deadline = time.time() + 120
+    while not shard_paths(raw, "g1") and time.time() < deadline and proc.poll() is None:
+        time.sleep(0.01)
+    proc.kill()
+    proc.wait()
+    done = shard_paths(raw, "g1")
+    assert 1 <= len(done) < 4, "the kill should land between the first and the last shard"
+    first = {p: p.stat().st_mtime_ns for p in done}
+    # A write cut short leaves a truncated partial file; the rerun must neither read nor keep it.
+    missing = next(p for p in (raw / "g1/dishwasher/0000").rglob("*") if p.is_dir() and not any(p.glob("*.h5")))
+    (missing / f"tabletop_00.h5{PARTIAL_SUFFIX}").write_bytes(b"\x89HDF\r\n\x1a\n truncated")
+
+    collect(tiny_cfg(tmp_path, *SUBSET))
+    paths = shard_paths(raw, "g1")
+    assert len(paths) == 4
+    assert all(len(read_shard(p).episodes) == 2 for p in paths)
+    assert not list(raw.rglob(f"*{PARTIAL_SUFFIX}"))
+    assert all(p.stat().st_mtime_ns == mtime for p, mtime in first.items())  # complete shards untouched
+
+
+def test_corrupt_shard_is_named_and_the_rest_exports(tmp_path):
+    cfg = tiny_cfg(tmp_path, "subset.objects=[dishwasher/0000]", "subset.skills=[open]", "subset.episodes=1")
+    collect(cfg)
+    good, bad = shard_paths(Path(cfg.raw_dir), "g1")
+    data = bad.read_bytes()
+    bad.write_bytes(data[: len(data) // 2])
+
+    problems = validate(cfg)
+    assert len(problems) == 1 and str(bad) in problems[0]
+
+    report = export(cfg)
+    assert len(report.skipped) == 1 and str(bad) in report.skipped[0]
+    lines = read_episodes(Path(cfg.dataset_dir))
+    assert [line["shard"] for line in lines] == [str(good.relative_to(cfg.raw_dir))]
+    assert read_export_report(Path(cfg.dataset_dir))["skipped"] == report.skipped
+    assert not Path(cfg.dataset_dir + ".partial").exists()
+    shutil.rmtree(cfg.dataset_dir)
