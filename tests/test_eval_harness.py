@@ -1,0 +1,180 @@
+"""Closed-loop evaluation: adaptive ensemble, reproduction of the reference policies' own success, resumable
+results, and a tiny VLA through the whole protocol."""
+
+import json
+from pathlib import Path
+
+import numpy as np
+import pytest
+from hydra import compose, initialize_config_dir
+from omegaconf import OmegaConf
+
+from mobilemani_rl.base_frame import action_to_base
+from mobilemani_rl.envs.config import EnvCfg, TaskCfg, env_cfg_from_hydra
+from mobilemani_rl.envs.mobilemani_env import MobileManiEnv
+from mobilemani_rl.eval import evaluate as evaluate_teacher
+from mobilemani_rl.rl.run_dir import CONFIG, latest_checkpoint
+from mobilemani_rl.rollout import run_first_episodes
+from mobilemani_rl.scripted import ScriptedPolicy
+from mobilemani_rl.train import train as train_ppo
+from mobilemani_vla.ensemble import AdaptiveEnsembler, ChunkExecutor, EnsembleCfg, ensemble_weights
+from mobilemani_vla.eval_config import eval_cfg_from_hydra
+from mobilemani_vla.evaluate import evaluate
+from mobilemani_vla.harness import run_batch
+from mobilemani_vla.policies.privileged import RandomPolicy, ScriptedEvalPolicy, TeacherEvalPolicy
+from mobilemani_vla.results import read_records
+
+CONF = str(Path(__file__).resolve().parents[1] / "conf")
+ENSEMBLE = EnsembleCfg()
+
+
+def compose_cfg(name: str, overrides: list[str]):
+    with initialize_config_dir(config_dir=CONF, version_base="1.3"):
+        return compose(config_name=name, overrides=overrides)
+
+
+# ---------------------------------------------------------------- adaptive ensemble
+def test_ensemble_weights_follow_cosine_similarity():
+    candidates = np.array([[1.0, 0.0], [0.0, 2.0], [-3.0, 0.0]])  # cos to row 0: 1, 0, -1
+    expected = np.exp(0.1 * np.array([1.0, 0.0, -1.0]))
+    np.testing.assert_allclose(ensemble_weights(candidates, 0.1), expected / expected.sum())
+    np.testing.assert_allclose(ensemble_weights(candidates, 0.0), np.full(3, 1 / 3))  # alpha 0: plain average
+
+
+def test_ensemble_takes_each_chunks_row_for_the_current_step_and_keeps_k():
+    ens = AdaptiveEnsembler(horizon=3, alpha=0.1)
+    # Chunk t predicts step t + i with value 10 * t + i in both dimensions (all positive: cos = 1, equal weights).
+    chunk = lambda t: np.array([[10.0 * t + i] * 2 for i in range(5)])  # noqa: E731
+    np.testing.assert_allclose(ens.update(chunk(0)), [0.0, 0.0])  # one chunk at episode start
+    np.testing.assert_allclose(ens.update(chunk(1)), [(1 + 10) / 2] * 2)  # rows: chunk1[0]=10, chunk0[1]=1
+    np.testing.assert_allclose(ens.update(chunk(2)), [(20 + 11 + 2) / 3] * 2)
+    # K = 3: chunk 0 (row 3 would be 3) is dropped; candidates chunk3[0], chunk2[1], chunk1[2].
+    np.testing.assert_allclose(ens.update(chunk(3)), [(30 + 21 + 12) / 3] * 2)
+    ens.reset()
+    np.testing.assert_allclose(ens.update(chunk(7)), [70.0, 70.0])
+
+
+def test_ensemble_weights_favour_candidates_agreeing_with_the_newest_chunk():
+    ens = AdaptiveEnsembler(horizon=2, alpha=0.1)
+    ens.update(np.array([[1.0, 0.0], [0.0, 1.0]]))  # its row 1 (orthogonal to the next reference) weighs less
+    out = ens.update(np.array([[1.0, 0.0], [1.0, 0.0]]))
+    w_new, w_old = np.exp(0.1), 1.0
+    np.testing.assert_allclose(out, (w_new * np.array([1.0, 0.0]) + w_old * np.array([0.0, 1.0])) / (w_new + w_old))
+
+
+def test_chunk_executor_resets_per_env_and_executes_fixed_elements():
+    chunks = np.arange(2 * 4 * 3, dtype=float).reshape(2, 4, 3) + 1.0
+    np.testing.assert_allclose(ChunkExecutor(EnsembleCfg(action_index=2), 2)(chunks), chunks[:, 2])
+    executor = ChunkExecutor(ENSEMBLE, 2)
+    executor(chunks)
+    executor.reset([0])
+    out = executor(chunks + 100.0)
+    np.testing.assert_allclose(out[0], chunks[0, 0] + 100.0)  # env 0 restarted: only the newest chunk
+    assert not np.allclose(out[1], chunks[1, 0] + 100.0)  # env 1 still averages two chunks
+    with pytest.raises(ValueError, match="outside"):
+        ChunkExecutor(EnsembleCfg(action_index=4), 2)(chunks)
+
+
+# ---------------------------------------------------------------- reference policies reproduce their own success
+def env_for(num_envs: int, seed: int, **task) -> MobileManiEnv:
+    return MobileManiEnv(EnvCfg(num_envs=num_envs, seed=seed, task=TaskCfg(**task)))
+
+
+class BaseFrameScripted(ScriptedEvalPolicy):
+    """The scripted policy's actions encoded in the base frame: exercises the harness's decoding to world."""
+
+    action_frame = "base"
+
+    def act(self, obs):
+        return action_to_base(super().act(obs), self.policy.env.frames.base_quat[:, None])
+
+
+@pytest.mark.parametrize("task", [dict(object="test/box", skill="open"),
+                                  dict(object="test/box", skill="close", scene="tabletop/17")])
+def test_scripted_policy_through_the_harness_reproduces_its_own_success(task):
+    seed, n = 5, 12
+    env = env_for(n, seed, **task)
+    own = run_first_episodes(env, ScriptedPolicy(env), seed).success.mean()
+    harness = run_batch(env_for(n, seed, **task), ScriptedEvalPolicy(), seed, "open box", ENSEMBLE).success.mean()
+    base = run_batch(env_for(n, seed, **task), BaseFrameScripted(), seed, "open box", ENSEMBLE).success.mean()
+    assert own > 0.5
+    assert abs(harness - own) <= 0.02 and abs(base - own) <= 0.02
+
+
+def test_random_policy_scores_near_zero():
+    stats = run_batch(env_for(12, 1, object="test/box", skill="open"), RandomPolicy(), 1, "open box", ENSEMBLE)
+    assert stats.success.mean() <= 0.1
+
+
+def test_tiny_ppo_teacher_through_the_harness_reproduces_its_own_evaluation(tmp_path):
+    run_dir = tmp_path / "run"
+    train_ppo(compose_cfg("rl", ["rl/ppo=tiny", f"run_dir={run_dir}"]))
+    checkpoint = latest_checkpoint(run_dir)
+    own = evaluate_teacher(checkpoint, episodes=16, seed=3)["success_rate"]
+    env_cfg = env_cfg_from_hydra(OmegaConf.load(run_dir / CONFIG))
+    env_cfg.num_envs = 16
+    stats = run_batch(MobileManiEnv(env_cfg), TeacherEvalPolicy(str(checkpoint)), 3, "open box", ENSEMBLE)
+    assert abs(stats.success.mean() - own) <= 0.02
+
+
+@pytest.mark.slow
+def test_trained_box_teacher_reproduces_its_success_rate():
+    """The real g1 open test/box checkpoint: 256 episodes, seed 1000, as `python -m mobilemani_rl.eval`."""
+    checkpoint = Path(__file__).resolve().parents[1] / "runs/rl/g1/test/box/open/model_300.pt"
+    if not checkpoint.exists():
+        pytest.skip("no trained teacher checkpoint in runs/rl")
+    own = evaluate_teacher(checkpoint, episodes=256, seed=1000)["success_rate"]
+    env_cfg = env_cfg_from_hydra(OmegaConf.load(checkpoint.parent / CONFIG))
+    env_cfg.num_envs = 256
+    stats = run_batch(MobileManiEnv(env_cfg), TeacherEvalPolicy(str(checkpoint)), 1000, "open box", ENSEMBLE)
+    assert abs(stats.success.mean() - own) <= 0.02
+
+
+# ---------------------------------------------------------------- the protocol: records, resume, summaries
+def eval_cfg(tmp_path: Path, overrides: list[str]):
+    base = ["eval/protocol=small", "subset.categories=[box]", "subset.skills=[open]", "episodes_per_batch=2",
+            f"output_dir={tmp_path}", "env.episode_length=40"]
+    return eval_cfg_from_hydra(compose_cfg("eval", [*base, *overrides]))
+
+
+def test_protocol_records_are_seeded_resumable_and_summarised(tmp_path):
+    cfg = eval_cfg(tmp_path, ["eval/policy=scripted", "name=scripted", "subset.episodes=4"])
+    summary = evaluate(cfg)
+    path = tmp_path / "g1" / "scripted" / "test_objects_test_scenes.jsonl"
+    records = read_records(path)
+    assert [r["episode"] for r in records] == [0, 1, 2, 3]
+    assert {r["object_id"] for r in records} == {"box/0010"} and records[0]["scene"] == "tabletop/16"
+    assert records[0]["instruction"] == "open box" and records[0]["seed"] != records[2]["seed"]
+    assert summary["per_skill"]["open"]["episodes"] == 4 and "box" in summary["per_category"]
+    # A rerun adds nothing; a line cut off by a kill is dropped and its episodes are run again, identically.
+    evaluate(cfg)
+    assert read_records(path) == records
+    lines = path.read_text().splitlines(keepends=True)
+    path.write_text("".join(lines[:2]) + lines[2][:20])
+    evaluate(cfg)
+    assert sorted(read_records(path), key=lambda r: r["episode"]) == records
+    with pytest.raises(ValueError, match="multiple"):
+        evaluate(eval_cfg(tmp_path, ["eval/policy=scripted", "subset.episodes=3"]))
+
+
+def test_tiny_vla_runs_the_protocol_end_to_end(tmp_path):
+    from mobilemani_vla.synthetic import write_synthetic_dataset
+    from mobilemani_vla.train import train as train_vla
+    from mobilemani_vla.config import vla_cfg_from_hydra
+
+    root = write_synthetic_dataset(tmp_path / "data", episodes=2, length=20)
+    vla_cfg = vla_cfg_from_hydra(compose_cfg("vla", [
+        "vla/model=tiny", "vla/train=cpu", f"data.root={root}", "data.repo_id=synthetic/g1",
+        f"train.output_dir={tmp_path / 'vla'}", "train.logger=none", "train.progress=false", "train.batch_size=2",
+        "train.steps=2", "inputs.states=[wrist_pose,grasp_point,goal_point]"]))
+    checkpoint = train_vla(vla_cfg).checkpoint
+    cfg = eval_cfg(tmp_path / "results", [f"policy.checkpoint={checkpoint}", "name=tiny_vla", "video_episodes=1",
+                                          "image_size=[64,64]", "env.episode_length=12"])
+    summary = evaluate(cfg)
+    run = tmp_path / "results" / "g1" / "tiny_vla"
+    records = read_records(run / "test_objects_test_scenes.jsonl")
+    assert len(records) == 2 and all(r["policy"] == "vla" and r["length"] <= 12 for r in records)
+    assert summary["overall"]["episodes"] == 2
+    config = json.loads((run / "config.json").read_text())
+    assert "observation.images.wrist_depth" in config["policy_inputs"]
+    assert len(list((run / "videos").rglob("*.mp4"))) == 1
