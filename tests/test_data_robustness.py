@@ -9,6 +9,7 @@ from pathlib import Path
 from data_helpers import tiny_cfg
 
 from mobilemani_data.collect import collect
+from mobilemani_data.combos import select_combinations
 from mobilemani_data.export import export
 from mobilemani_data.metadata import read_episodes, read_export_report
 from mobilemani_data.shards import PARTIAL_SUFFIX, read_shard, shard_paths
@@ -33,10 +34,12 @@ def test_killed_collection_reruns_to_exact_counts(tmp_path):
     assert 1 <= len(done) < 4, "the kill should land between the first and the last shard"
     first = {p: p.stat().st_mtime_ns for p in done}
     # A write cut short leaves a truncated partial file; the rerun must neither read nor keep it.
-    missing = next(p for p in (raw / "g1/dishwasher/0000").rglob("*") if p.is_dir() and not any(p.glob("*.h5")))
-    (missing / f"tabletop_00.h5{PARTIAL_SUFFIX}").write_bytes(b"\x89HDF\r\n\x1a\n truncated")
+    cfg = tiny_cfg(tmp_path, *SUBSET)
+    missing = next(p for c in select_combinations(cfg.robot, cfg.subset) if not (p := raw / c.shard_path).exists())
+    missing.parent.mkdir(parents=True, exist_ok=True)
+    missing.with_name(missing.name + PARTIAL_SUFFIX).write_bytes(b"\x89HDF\r\n\x1a\n truncated")
 
-    collect(tiny_cfg(tmp_path, *SUBSET))
+    collect(cfg)
     paths = shard_paths(raw, "g1")
     assert len(paths) == 4
     assert all(len(read_shard(p).episodes) == 2 for p in paths)
