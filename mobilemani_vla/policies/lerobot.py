@@ -1,0 +1,71 @@
+"""A LeRobot policy (ACT, pi0, SmolVLA, ... trained with `lerobot-train` on our dataset) as an evaluation policy.
+
+Loaded from a local `pretrained_model` directory with LeRobot's own API (config, weights, pre/post-processor
+pipelines), so normalisation is exactly the one it was trained with. Its input features are our dataset's
+feature names (optionally renamed, as with `lerobot-train --rename_map`); images are resized to the feature's
+shape. It predicts the dataset's `action` (world frame) or `action_base` (base frame), one chunk per call
+(`predict_action_chunk`). Policies that stack several observation steps (diffusion with n_obs_steps > 1) need an
+observation history and are not supported.
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+import torch
+import torch.nn.functional as F
+
+from mobilemani_data import schema
+from mobilemani_vla.policies.base import TASK, EvalPolicy, Observation, active_rows, scatter_rows
+
+
+class LeRobotEvalPolicy(EvalPolicy):
+    name = "lerobot"
+
+    def __init__(self, checkpoint: str | Path, device: str = "cpu", batch_size: int = 16,
+                 rename: dict[str, str] | None = None) -> None:
+        from lerobot.configs.policies import PreTrainedConfig
+        from lerobot.policies.factory import get_policy_class, make_pre_post_processors
+
+        path = Path(checkpoint)
+        if not (path / "config.json").is_file():
+            raise FileNotFoundError(f"no LeRobot policy (config.json) in {path}; pass its pretrained_model dir")
+        config = PreTrainedConfig.from_pretrained(path)
+        config.device = device
+        if getattr(config, "n_obs_steps", 1) != 1:
+            raise ValueError(f"{config.type} stacks {config.n_obs_steps} observation steps; only single-step "
+                             "policies are supported")
+        self.policy = get_policy_class(config.type).from_pretrained(path, config=config).eval()
+        self.pre, self.post = make_pre_post_processors(config, pretrained_path=str(path))
+        self.name = f"lerobot_{config.type}"
+        self.device, self.batch_size = torch.device(device), batch_size
+        theirs_to_ours = {theirs: ours for ours, theirs in (rename or {}).items()}
+        self.features = {theirs_to_ours.get(k, k): (k, tuple(f.shape)) for k, f in config.input_features.items()}
+        outputs = list(config.output_features)
+        if outputs not in ([schema.ACTION], [schema.ACTION_BASE]):
+            raise ValueError(f"the policy predicts {outputs}; expected [{schema.ACTION!r}] or [{schema.ACTION_BASE!r}]")
+        self.action_frame = "world" if outputs == [schema.ACTION] else "base"
+        self.inputs = frozenset(self.features) | {TASK}
+
+    def _batch(self, obs: Observation, rows: np.ndarray) -> dict:
+        batch: dict = {TASK: [obs[TASK][i] for i in rows]}
+        for ours, (theirs, shape) in self.features.items():
+            value = torch.as_tensor(np.asarray(obs[ours])[rows])
+            if value.ndim == 4:  # (B, H, W, 3) uint8 -> (B, 3, H, W) in [0, 1] at the feature's size
+                value = value.permute(0, 3, 1, 2).float() / 255.0
+                if tuple(value.shape[-2:]) != shape[-2:]:
+                    value = F.interpolate(value, size=shape[-2:], mode="bilinear", antialias=True,
+                                          align_corners=False)
+            batch[theirs] = value.float()
+        return batch
+
+    @torch.no_grad()
+    def act(self, obs: Observation) -> np.ndarray:
+        rows = active_rows(obs)
+        chunks = []
+        for part in np.array_split(rows, max(1, -(-len(rows) // self.batch_size))):
+            if part.size:
+                chunk = self.policy.predict_action_chunk(self.pre(self._batch(obs, part)))
+                chunks.append(self.post(chunk).cpu().numpy())
+        return scatter_rows(rows, np.concatenate(chunks), len(obs[TASK]))
