@@ -12,7 +12,7 @@ PYTHON312 ?= $(shell for c in python3.12 $$(pyenv root 2>/dev/null)/versions/3.1
 
 ROBOT ?= g1
 
-.PHONY: setup test test-slow lint bench bench-sim bench-ppo clean-venv rl tables vla bench-vla
+.PHONY: setup test test-slow lint bench bench-sim bench-ppo clean-venv rl tables vla bench-vla eval
 
 setup: $(VENV)/.installed
 
@@ -52,6 +52,16 @@ rl: setup
 
 tables: setup
 	$(PY) scripts/rl_tables.py runs/rl --out results/rl
+	$(PY) scripts/vla_tables.py results/eval --out results/vla
+
+# Closed-loop evaluation (Hydra root conf/eval.yaml): make eval ROBOT=g1 CHECKPOINT=<VLA checkpoint dir>
+#   [POLICY=vla|lerobot|teacher|scripted|random PROTOCOL=paper|ablation|small SPLIT=unseen_unseen|seen_unseen|.. NAME=..]
+POLICY ?= vla
+PROTOCOL ?= paper
+SPLIT ?= unseen_unseen
+eval: setup
+	$(PY) -m mobilemani_vla.evaluate robot=$(ROBOT) eval/policy=$(POLICY) eval/protocol=$(PROTOCOL) eval/split=$(SPLIT) \
+		$(if $(CHECKPOINT),policy.checkpoint=$(CHECKPOINT)) $(if $(NAME),name=$(NAME))
 
 # VLA training (Hydra root conf/vla.yaml): make vla ROBOT=g1 [EXPERIMENT=ablation_image_head_rgb]
 vla: setup
