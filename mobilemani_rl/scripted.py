@@ -25,15 +25,21 @@ class ScriptedPolicyCfg:
     rot_gain: float = 4.0
     pregrasp_offset: float = 0.08  # m in front of the grasp point along the grasp direction
     pregrasp_tolerance: float = 0.02
+    grasp_depth: float = 0.0  # m past the grasp point (along the grasp direction) where the palm point stops
     grasp_tolerance: float = 0.012
     close_steps: int = 8
     move_rotation: float = 0.0  # weight of the reward's palm-rotation target while moving (it fights the grasp)
 
 
+# The five-finger hand stops with the handle a little deeper, nearer its palm face, so that the curled fingers
+# pass behind the handle, and its weak finger servos need longer to close than the parallel gripper.
+ROBOT_CFG = {"g1": ScriptedPolicyCfg(), "xhand": ScriptedPolicyCfg(grasp_depth=0.012, close_steps=15)}
+
+
 class ScriptedPolicy:
     def __init__(self, env: MobileManiEnv, cfg: ScriptedPolicyCfg | None = None) -> None:
         self.env = env
-        self.cfg = cfg or ScriptedPolicyCfg()
+        self.cfg = cfg or ROBOT_CFG[env.robot.name]
         n = env.num_envs
         self.phase = np.zeros(n, dtype=np.int64)
         self.phase_steps = np.zeros(n, dtype=np.int64)
@@ -58,14 +64,15 @@ class ScriptedPolicy:
         pregrasp = f.grasp_pos - cfg.pregrasp_offset * GRASP_DIRECTION
         near_pregrasp = np.linalg.norm(pregrasp - f.palm_pos, axis=1) < cfg.pregrasp_tolerance
         self.pregrasp_done |= near_pregrasp & (self.phase == APPROACH)
-        target = np.where(self.pregrasp_done[:, None], f.grasp_pos, pregrasp)
+        grasp_target = f.grasp_pos + cfg.grasp_depth * GRASP_DIRECTION
+        target = np.where(self.pregrasp_done[:, None], grasp_target, pregrasp)
         actions[:, 0:3] = np.clip(cfg.pos_gain * (target - f.palm_pos), -1.0, 1.0)
         actions[:, 3:6] = np.clip(cfg.rot_gain * rotation_to(f.palm_quat, np.broadcast_to(GRASP_DIRECTION, (n, 3))),
                                   -1.0, 1.0)
         if self.palm_rotation:
             pitch = euler_from_quat(quat_mul(env.palm_rot_target, quat_conj(f.palm_quat)))[:, 1]
             actions[:, 4] = np.clip(cfg.rot_gain * pitch, -1.0, 1.0)
-        reached = self.pregrasp_done & (np.linalg.norm(f.grasp_pos - f.palm_pos, axis=1) < cfg.grasp_tolerance)
+        reached = self.pregrasp_done & (np.linalg.norm(grasp_target - f.palm_pos, axis=1) < cfg.grasp_tolerance)
         self._advance(reached & (self.phase == APPROACH), CLOSE)
 
         holding = self.phase >= CLOSE

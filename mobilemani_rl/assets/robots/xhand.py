@@ -1,8 +1,12 @@
 """XHand-like robot: the same mobile base and torso, an RM75-like 7-DoF right arm and a 12-DoF five-finger hand.
 
-Hand frame (`xhand_right_base_link`): +z is the approach direction (the palm direction of the reference), the
-palm faces -x, the fingers spread along y. Fingers curl toward the palm (-x) and the thumb leaves the palm face
-and flexes toward the fingertips. Joint names, limits, defaults and action order are the reference's.
+Hand frame (`xhand_right_base_link`, origin at the wrist on the back of the hand), as the reference XHand: +z is
+the palm normal (the palm direction of the reference, and the approach direction), the fingers extend along -x
+from the knuckles and spread along y, the index on the +y side. Fingers curl toward +z, so that closed
+fingertips wrap over a bar held at the palm point (-0.04, 0, 0.06), 3 cm in front of the palm face. The thumb
+sits beside the index: thumb_bend swings it in the palm plane from along the fingers (0) to sideways (+y, the
+default), and its two rota joints raise it out of the palm and curl it over the palm point from the +y side.
+Joint names, limits, defaults and action order are the reference's.
 """
 
 from __future__ import annotations
@@ -31,8 +35,10 @@ ARM_JOINTS = tuple(f"right_arm_joint{i}" for i in range(1, 8))
 ARM_LIMITS = ((-3.107, 3.107), (-2.269, 2.269), (-3.107, 3.107), (-2.356, 2.356), (-3.107, 3.107),
               (-2.234, 2.234), (-6.283, 6.283))
 UPPER_ARM, FOREARM = 0.30, 0.28
-# Wrist pitch defaults to 0.5 rad (as the reference) so that the two forearm/hand roll axes stay apart.
-DEFAULT_ARM = (0.8, 0.0, 0.0, math.pi / 2 - 1.3, 0.0, 0.5, 0.0)
+# Forearm pointing forward and slightly down, wrist flexed so that the fingers hang down and the palm faces
+# forward (+y) at (0.2, 0.55, 0.45) in the base frame. The wrist pitch stays far from 0, where the forearm and
+# hand roll axes align.
+DEFAULT_ARM = (0.853, 0.0, 0.0, 0.637, 0.0, -1.49, 0.0)
 
 P = "right_hand_"
 HAND_LIMITS = {
@@ -42,60 +48,80 @@ HAND_LIMITS = {
     "thumb_rota_joint1": (-1.05, 1.57), "index_joint2": (0.0, 1.92), "thumb_rota_joint2": (-0.175, 1.83),
 }
 HAND_JOINTS = tuple(P + name for name in HAND_LIMITS)  # reference action order
-# A wrapping grasp: fingers curl around a bar at the palm point, the thumb closes the cage from the wrist side.
-HAND_GRASP = {"thumb_bend": 1.5, "thumb_rota_joint1": 0.8, "thumb_rota_joint2": 1.4, "index_bend": 0.0,
+# A caging grasp of a bar at the palm point: the four fingers curl over its far side, the thumb stands up beside
+# the wrist and its distal phalanx crosses over the palm.
+HAND_GRASP = {"thumb_bend": 1.5, "thumb_rota_joint1": 1.5, "thumb_rota_joint2": 1.6, "index_bend": 0.0,
               "index_joint1": 1.6, "mid_joint1": 1.6, "ring_joint1": 1.6, "pinky_joint1": 1.6,
-              "index_joint2": 1.9, "mid_joint2": 1.9, "ring_joint2": 1.9, "pinky_joint2": 1.9}
+              "index_joint2": 1.7, "mid_joint2": 1.7, "ring_joint2": 1.7, "pinky_joint2": 1.7}
 HAND_DEFAULT = {"thumb_bend": 1.5, "thumb_rota_joint1": 0.0, "thumb_rota_joint2": 0.5, "index_bend": 0.1,
                 "index_joint1": 0.0, "mid_joint1": 0.0, "ring_joint1": 0.0, "pinky_joint1": 0.0,
                 "index_joint2": 0.5, "mid_joint2": 0.5, "ring_joint2": 0.5, "pinky_joint2": 0.5}
 
-PALM_LENGTH = 0.075  # knuckles just beyond the palm point, so curled fingers wrap a bar held there
-PHALANX = (0.045, 0.035)
+PALM = (0.09, 0.09, 0.03)  # length (x), width (y), thickness (z): the palm face is at z = 0.03
+WRIST_X = 0.03  # the palm spans x in [WRIST_X - 0.09, WRIST_X]
+# Knuckles 2.5 cm past the palm point along -x, as a bar held at the base of the fingers: the proximal
+# phalanges clear a 1.3 cm bar there and reach 2 cm beyond the palm point along +z, so that the curled distal
+# phalanges lie over the bar's far side (a hook), yet short of a surface 3.5 cm behind the bar.
+KNUCKLE = (-0.065, 0.024)  # x, z of the finger base joints
+PHALANX = (0.056, 0.038)
 FINGER_Y = {"pinky": -0.033, "ring": -0.011, "mid": 0.011, "index": 0.033}
-CURL_AXIS = (0, -1, 0)  # positive flexion turns +z toward the palm side (-x)
+# The thumb rises next to the wrist, on the +x side of a bar at the palm point, and its distal phalanx closes
+# the cage there: a bar pulled toward the wrist cannot slip out of the finger hooks.
+THUMB_BASE = (-0.008, 0.05, 0.02)
+THUMB_PHALANX = (0.045, 0.035)
+CURL_AXIS = (0, 1, 0)  # positive flexion turns a digit pointing along -x toward +z (out of the palm)
+# Hand link in the flange adapter (whose +z continues the forearm): fingers (-x) along the forearm, palm normal
+# (+z) along the adapter's +x, so that the wrist pitch turns the palm forward; the adapter axis runs through the
+# middle of the palm's thickness.
+HAND_QUAT = (math.sqrt(0.5), 0.0, math.sqrt(0.5), 0.0)
 TIP_SITES = tuple(f"{P}{f}_tip" for f in ("pinky", "ring", "mid", "index", "thumb"))
 
 
-def _add_phalanx(parent: mujoco.MjsBody, link: str, joint: str, pos, axis, length: float, direction) -> mujoco.MjsBody:
+def _add_phalanx(parent: mujoco.MjsBody, link: str, joint: str, pos, length: float) -> mujoco.MjsBody:
+    """A link pointing along its local -x, flexing about local +y."""
     body = add_link(parent, P + link, pos)
-    add_hinge(body, P + joint, axis, HAND_LIMITS[joint], armature=0.002, damping=0.05)
-    tip = [length * c for c in direction]
-    add_geom(body, CAPSULE, (0.009,), fromto=(0, 0, 0, *tip), rgba=DARK_RGBA, mass=0.02,
+    add_hinge(body, P + joint, CURL_AXIS, HAND_LIMITS[joint], armature=0.002, damping=0.05)
+    add_geom(body, CAPSULE, (0.009,), fromto=(0, 0, 0, -length, 0, 0), rgba=DARK_RGBA, mass=0.02,
              friction=(1.5, 0.01, 0.001))
     return body
 
 
+def _add_digit(parent: mujoco.MjsBody, name: str, links: tuple[str, str], joints: tuple[str, str], pos,
+               lengths: tuple[float, float]) -> None:
+    proximal = _add_phalanx(parent, links[0], joints[0], pos, lengths[0])
+    distal = _add_phalanx(proximal, links[1], joints[1], (-lengths[0], 0, 0), lengths[1])
+    # Tip point on the pad (+z side) near the end of the distal phalanx.
+    distal.add_site(name=f"{P}{name}_tip", pos=[-lengths[1] + 0.004, 0, 0.006], size=[0.006, 0, 0], group=4)
+
+
 def _build_hand(wrist: mujoco.MjsBody) -> None:
-    cylinder = add_link(wrist, "Right_Cylinder_link", (0, 0, -0.02), GRIPPER_QUAT)
-    add_geom(cylinder, mujoco.mjtGeom.mjGEOM_CYLINDER, (0.035, 0.02), pos=(0, 0, 0.02), rgba=DARK_RGBA, mass=0.2)
-    add_camera(cylinder, "wrist_camera", pos=(0.0, -0.08, 0.02), forward=(0, 0, 1), up=(1, 0, 0))
-    hand = add_link(cylinder, "xhand_right_base_link", (0, 0, 0.04))
-    add_geom(hand, BOX, (0.015, 0.047, PALM_LENGTH / 2), pos=(0, 0, PALM_LENGTH / 2), mass=0.3)
+    adapter = add_link(wrist, "Right_Cylinder_link", (0, 0, -0.02), GRIPPER_QUAT)
+    add_geom(adapter, mujoco.mjtGeom.mjGEOM_CYLINDER, (0.035, 0.02), pos=(0, 0, 0.02), rgba=DARK_RGBA, mass=0.2)
+    length, width, thickness = PALM
+    hand = add_link(adapter, "xhand_right_base_link", (-thickness / 2, 0, 0.04 + WRIST_X), HAND_QUAT)
+    add_geom(hand, BOX, (length / 2, width / 2, thickness / 2), pos=(WRIST_X - length / 2, 0, thickness / 2),
+             mass=0.3)
     # Palm point: the reference offset (-0.04, 0, 0.06) in the hand frame, in front of the palm face.
     hand.add_site(name="palm", pos=[-0.04, 0, 0.06], size=[0.008, 0, 0], rgba=[1, 0, 0, 1], group=4)
+    # Wrist camera above the back of the wrist, looking out of the palm and slightly along the fingers.
+    add_camera(hand, "wrist_camera", pos=(WRIST_X + 0.01, 0.0, 0.05), forward=(-0.35, 0, 1), up=(-1, 0, 0))
     for finger, y in FINGER_Y.items():
-        parent, first = hand, "joint1"
-        base = (0, y, PALM_LENGTH)
+        parent, base = hand, (KNUCKLE[0], y, KNUCKLE[1])
         if finger == "index":
+            # Abduction about the palm normal, then the flexion chain.
             parent = add_link(hand, P + "index_bend_link", base)
-            add_hinge(parent, P + "index_bend", (1, 0, 0), HAND_LIMITS["index_bend"], armature=0.002, damping=0.05)
+            add_hinge(parent, P + "index_bend", (0, 0, 1), HAND_LIMITS["index_bend"], armature=0.002, damping=0.05)
             add_geom(parent, mujoco.mjtGeom.mjGEOM_SPHERE, (0.01,), collide=False, mass=0.01)
             base = (0, 0, 0)
-        link1 = "index_rota_link1" if finger == "index" else f"{finger}_link1"
-        link2 = "index_rota_link2" if finger == "index" else f"{finger}_link2"
-        proximal = _add_phalanx(parent, link1, f"{finger}_{first}", base, CURL_AXIS, PHALANX[0], (0, 0, 1))
-        distal = _add_phalanx(proximal, link2, f"{finger}_joint2", (0, 0, PHALANX[0]), CURL_AXIS, PHALANX[1],
-                              (0, 0, 1))
-        distal.add_site(name=f"{P}{finger}_tip", pos=[-0.008, 0, PHALANX[1]], size=[0.006, 0, 0], group=4)
-    # Thumb: points along +y at thumb_bend = 0, swings out of the palm face (-x) as thumb_bend grows.
-    bend = add_link(hand, P + "thumb_bend_link", (-0.02, 0.03, 0.03))
-    add_hinge(bend, P + "thumb_bend", (0, 0, 1), HAND_LIMITS["thumb_bend"], armature=0.002, damping=0.05)
+        links = ("index_rota_link1", "index_rota_link2") if finger == "index" else (f"{finger}_link1",
+                                                                                    f"{finger}_link2")
+        _add_digit(parent, finger, links, (f"{finger}_joint1", f"{finger}_joint2"), base, PHALANX)
+    # Thumb: thumb_bend swings it about the palm normal from along the fingers (-x, at 0) to sideways (+y).
+    bend = add_link(hand, P + "thumb_bend_link", THUMB_BASE)
+    add_hinge(bend, P + "thumb_bend", (0, 0, -1), HAND_LIMITS["thumb_bend"], armature=0.002, damping=0.05)
     add_geom(bend, mujoco.mjtGeom.mjGEOM_SPHERE, (0.012,), collide=False, mass=0.01)
-    rota1 = _add_phalanx(bend, "thumb_rota_link1", "thumb_rota_joint1", (0, 0.01, 0), (1, 0, 0), 0.04, (0, 1, 0))
-    rota2 = _add_phalanx(rota1, "thumb_rota_link2", "thumb_rota_joint2", (0, 0.04, 0), (1, 0, 0), 0.035,
-                         (0, 1, 0))
-    rota2.add_site(name=f"{P}thumb_tip", pos=[0, 0.035, 0.006], size=[0.006, 0, 0], group=4)
+    _add_digit(bend, "thumb", ("thumb_rota_link1", "thumb_rota_link2"), ("thumb_rota_joint1", "thumb_rota_joint2"),
+               (0, 0, 0), THUMB_PHALANX)
 
 
 def build_xhand_spec() -> mujoco.MjSpec:
