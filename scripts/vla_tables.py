@@ -27,6 +27,7 @@ from mobilemani_vla.results import SKILL_GROUPS, read_records, summarize  # noqa
 
 ROBOTS = ("g1", "xhand")
 SKILLS = ("open", "close", "pull", "push", "pick")
+COLORS = {"g1": "tab:blue", "xhand": "tab:red"}  # ours solid, the paper's the same colour faded
 GROUPS = tuple(dict.fromkeys(SKILL_GROUPS.values()))  # open/pull/pick, close/push
 PROTOCOL_SPLIT = "test_objects_test_scenes"
 # Paper, MobileManiVLA per skill (G1, XHand) and mean.
@@ -91,7 +92,7 @@ def skill_table(results: dict, run: str) -> Table:
         ours = [rate(results.get((robot, run, PROTOCOL_SPLIT)), *path) for robot in ROBOTS]
         rows.append([skill.title(), *map(pct, ours), *map(num, PAPER_BY_SKILL[skill])])
     return Table(["Skill", "G1", "XHand", "G1 (paper)", "XHand (paper)"], rows,
-                 f"Success rates (%) of MobileManiVLA ({run}) on unseen objects and scenes across the 5 skills.",
+                 f"Success rates (%) of run '{run}' (paper: MobileManiVLA) on unseen objects and scenes per skill.",
                  separators=(len(SKILLS),))
 
 
@@ -105,7 +106,7 @@ def category_table(results: dict, run: str) -> Table:
              *map(pct, category_rates(results, run, c)), *map(num, PAPER_BY_CATEGORY[c])] for c in CATEGORIES]
     cols = [f"{g.title()} {r}" for g in ("Open/Pull/Pick", "Close/Push") for r in ("G1", "XHand")]
     return Table(["Object", "Test", *cols, *(f"{c} (paper)" for c in cols)], rows,
-                 f"Success rates (%) of MobileManiVLA ({run}) per object category on unseen objects and scenes.")
+                 f"Success rates (%) of run '{run}' (paper: MobileManiVLA) per category on unseen objects and scenes.")
 
 
 def ablation_table(results: dict, rows: list, caption: str) -> Table:
@@ -121,7 +122,7 @@ def split_table(results: dict, run: str) -> Table:
     rows = [[label, pct(rate(results.get(("g1", run, split)), "overall")), num(paper)]
             for split, label, paper in SPLITS]
     return Table(["Objects / scenes", "Success", "Paper"], rows,
-                 f"Success rates (%) of MobileManiVLA ({run}, G1) on seen or unseen objects and scenes.")
+                 f"Success rates (%) of run '{run}' (G1) on seen or unseen objects and scenes.")
 
 
 def model_table(results: dict) -> Table:
@@ -145,15 +146,15 @@ def bar_plots(results: dict, run: str, out: Path) -> list[Path]:
             ours = [category_rates(results, run, c)[2 * g + k] for c in CATEGORIES]
             paper = [PAPER_BY_CATEGORY[c][2 * g + k] for c in CATEGORIES]
             ax.bar(x + (2 * k - 1.5) * 0.2, [np.nan if v is None else 100 * v for v in ours], 0.2,
-                   label=f"{robot} (ours)")
+                   label=f"{robot} (ours)", color=COLORS[robot])
             ax.bar(x + (2 * k - 0.5) * 0.2, [np.nan if v is None else v for v in paper], 0.2,
-                   label=f"{robot} (paper)", alpha=0.5)
+                   label=f"{robot} (paper)", color=COLORS[robot], alpha=0.35)
         ax.set_title(f"{group}: success per category ({run}, unseen objects x unseen scenes)")
-        ax.set_xticks(x, [c.replace("_", " ") for c in CATEGORIES], rotation=30, ha="right")
+        ax.set_xticks(x, [c.replace("_", " ") for c in CATEGORIES], rotation=30, ha="right", rotation_mode="anchor")
         ax.set_ylabel("success (%)")
         ax.set_ylim(0, 100)
-        ax.legend(ncol=4, fontsize=8)
-    fig.tight_layout()
+    fig.legend(*axes[0].get_legend_handles_labels(), loc="upper center", ncol=4, fontsize=9)
+    fig.tight_layout(rect=(0, 0, 1, 0.96))
     paths.append(out / "vla_by_category.png")
     fig.savefig(paths[-1], dpi=120)
     plt.close(fig)
@@ -162,14 +163,15 @@ def bar_plots(results: dict, run: str, out: Path) -> list[Path]:
     x = np.arange(len(SKILLS))
     for k, robot in enumerate(ROBOTS):
         ours = [rate(results.get((robot, run, PROTOCOL_SPLIT)), "per_skill", s) for s in SKILLS]
-        ax.bar(x + (2 * k - 1.5) * 0.2, [np.nan if v is None else 100 * v for v in ours], 0.2, label=f"{robot} (ours)")
+        ax.bar(x + (2 * k - 1.5) * 0.2, [np.nan if v is None else 100 * v for v in ours], 0.2, label=f"{robot} (ours)",
+               color=COLORS[robot])
         ax.bar(x + (2 * k - 0.5) * 0.2, [PAPER_BY_SKILL[s][k] for s in SKILLS], 0.2, label=f"{robot} (paper)",
-               alpha=0.5)
+               color=COLORS[robot], alpha=0.35)
     ax.set_xticks(x, SKILLS)
     ax.set_ylabel("success (%)")
-    ax.set_ylim(0, 100)
+    ax.set_ylim(0, 110)
     ax.set_title(f"Success per skill ({run}, unseen objects x unseen scenes)")
-    ax.legend(ncol=2, fontsize=8)
+    ax.legend(ncol=4, fontsize=8, loc="upper center")
     fig.tight_layout()
     paths.append(out / "vla_by_skill.png")
     fig.savefig(paths[-1], dpi=120)
