@@ -33,7 +33,9 @@ test-slow: setup
 lint: setup
 	$(VENV)/bin/ruff check .
 
-bench: bench-sim
+# Every benchmark in one JSON (results/bench.json) and one table against the raw MuJoCo limits.
+bench: setup
+	$(PY) scripts/bench_all.py
 
 bench-sim: setup
 	$(PY) -m mobilemani_rl.bench
