@@ -7,8 +7,8 @@ sanity check that physics, IK and goals are consistent, and the simplest teacher
 The reward's reference actions approach every handle along the grasp direction (0, 1, 0). Here the approach
 comes from the handle's free side instead: every generated grip (bar, knob, lever, tab, lid edge, faucet
 lever) faces -y of the object frame with its joint at 0, so its free side now is that direction turned by the
-joint. For closed objects that is the grasp direction; for a lid standing 40-80° open it is the lid's plane,
-where the fingers can straddle its edge. While moving, the palm keeps facing the grip as the link turns.
+joint. For closed objects that is the grasp direction; for a lid standing 40-80° open it is
+the lid's plane, where the fingers can straddle its edge.
 """
 
 from __future__ import annotations
@@ -38,6 +38,7 @@ class ScriptedPolicyCfg:
     grasp_tolerance: float = 0.012
     close_steps: int = 8
     follow_handle: bool = True  # approach from the grip's free side (else along the grasp direction)
+    approach_from_below: bool = True  # else a grip facing down (under a dropped door) is approached horizontally
     move_follow: float = 1.0  # weight of keeping the palm on the grip's free side while moving
     move_rotation: float = 0.0  # weight of the reward's palm-rotation target while moving (it fights the grasp)
 
@@ -45,7 +46,9 @@ class ScriptedPolicyCfg:
 # The five-finger hand stops with the handle a little deeper, nearer its palm face, so that the curled fingers
 # pass behind the handle, and its weak finger servos need longer to close than the parallel gripper. The
 # gripper's pads let a turning handle rotate between them, while turning the wrist with it makes them slip.
-ROBOT_CFG = {"g1": ScriptedPolicyCfg(move_follow=0.0),
+# Turning the gripper up under a dropped oven door throws the G1 arm into the door, while its fingers pinch the
+# hanging handle from the front as well; the hand's wrist would hit the door from the front.
+ROBOT_CFG = {"g1": ScriptedPolicyCfg(move_follow=0.0, approach_from_below=False),
              "xhand": ScriptedPolicyCfg(grasp_depth=0.012, close_steps=15)}
 
 
@@ -82,7 +85,10 @@ class ScriptedPolicy:
         direction = quat_apply(v.mocap_quat[:, idx.object_mocap], np.broadcast_to(GRASP_DIRECTION, (n, 3)))
         if self.joint_is_hinge:
             direction = rotate_about(direction, v.xaxis[:, self.joint_id], v.qpos[:, idx.object_joint_qpos])
-        return direction / np.linalg.norm(direction, axis=1, keepdims=True)
+        if not self.cfg.approach_from_below:
+            direction[:, 2] = np.minimum(direction[:, 2], 0.0)
+        norm = np.linalg.norm(direction, axis=1, keepdims=True)
+        return np.where(norm > 0.3, direction / np.maximum(norm, 1e-9), GRASP_DIRECTION)
 
     def __call__(self) -> np.ndarray:
         env, cfg, f = self.env, self.cfg, self.env.frames
