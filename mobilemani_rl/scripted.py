@@ -25,6 +25,7 @@ from mobilemani_rl.envs.rewards import GRASP_DIRECTION, palm_direction, rotation
 from mobilemani_rl.rotations import cross, euler_from_quat, quat_apply, quat_conj, quat_mul
 
 APPROACH, CLOSE, MOVE = 0, 1, 2
+DOWN = np.array([0.0, 0.0, -1.0])
 
 
 @dataclass
@@ -32,10 +33,13 @@ class ScriptedPolicyCfg:
     pos_gain: float = 12.0  # action per metre of error (saturates at 1 = 2.5 cm per step)
     rot_gain: float = 4.0
     pregrasp_offset: float = 0.08  # m in front of the grasp point along the approach direction
+    pick_pregrasp_offset: float = 0.15  # above a rigid object's centre of mass: clears tall objects
     pregrasp_tolerance: float = 0.015
     pregrasp_alignment: float = 0.985  # cosine between palm and approach directions needed to go in (~10°)
     grasp_depth: float = 0.0  # m past the grasp point (along the approach direction) where the palm point stops
     grasp_tolerance: float = 0.012
+    blocked_radius: float = 0.05  # the palm stopped this close to the grasp point (touching the object): close
+    blocked_speed: float = 0.01  # m/s
     close_steps: int = 8
     follow_handle: bool = True  # approach from the grip's free side (else along the grasp direction)
     approach_from_below: bool = True  # else a grip facing down (under a dropped door) is approached horizontally
@@ -71,6 +75,10 @@ class ScriptedPolicy:
         self.hand_closed = normalize_to_limits(grasp, env.index.hand_limits)
         idx = env.index
         self.follow = self.cfg.follow_handle and env.object.kind is ObjectKind.ARTICULATED
+        # Rigid objects are picked from above: the arm cannot reach the centre of mass of an object low on the
+        # table with the palm turned forward, and a lifting grasp holds best under the palm.
+        self.from_above = env.object.kind is ObjectKind.RIGID
+        self.pregrasp_offset = self.cfg.pick_pregrasp_offset if self.from_above else self.cfg.pregrasp_offset
         self.joint_id = int(np.flatnonzero(env.model.jnt_qposadr == idx.object_joint_qpos)[0]) \
             if idx.object_joint_qpos >= 0 else -1
         self.joint_is_hinge = self.joint_id >= 0 and \
@@ -79,6 +87,8 @@ class ScriptedPolicy:
     def approach_direction(self) -> np.ndarray:
         """(n, 3) unit direction from the grip's free side toward the surface it is mounted on."""
         env, n = self.env, self.env.num_envs
+        if self.from_above:
+            return np.broadcast_to(DOWN, (n, 3))
         if not self.follow:
             return np.broadcast_to(GRASP_DIRECTION, (n, 3))
         v, idx = env.view, env.index
@@ -105,7 +115,7 @@ class ScriptedPolicy:
         face_grip = rotation_to(f.palm_quat, approach)
 
         # Approach: pre-grasp point first, then straight in along the approach direction.
-        pregrasp = f.grasp_pos - cfg.pregrasp_offset * approach
+        pregrasp = f.grasp_pos - self.pregrasp_offset * approach
         near_pregrasp = np.linalg.norm(pregrasp - f.palm_pos, axis=1) < cfg.pregrasp_tolerance
         # Going in with the palm still turning would land a finger on a lid edge or a handle.
         aligned = np.sum(palm_direction(f.palm_quat) * approach, axis=1) > cfg.pregrasp_alignment
@@ -114,10 +124,12 @@ class ScriptedPolicy:
         target = np.where(self.pregrasp_done[:, None], grasp_target, pregrasp)
         actions[:, 0:3] = np.clip(cfg.pos_gain * (target - f.palm_pos), -1.0, 1.0)
         actions[:, 3:6] = np.clip(cfg.rot_gain * face_grip, -1.0, 1.0)
-        if self.palm_rotation:
+        if self.palm_rotation and not self.from_above:
             pitch = euler_from_quat(quat_mul(env.palm_rot_target, quat_conj(f.palm_quat)))[:, 1]
             actions[:, 4] = np.clip(cfg.rot_gain * pitch, -1.0, 1.0)
-        reached = self.pregrasp_done & (np.linalg.norm(grasp_target - f.palm_pos, axis=1) < cfg.grasp_tolerance)
+        gap = np.linalg.norm(grasp_target - f.palm_pos, axis=1)
+        blocked = (gap < cfg.blocked_radius) & (np.linalg.norm(f.palm_linvel, axis=1) < cfg.blocked_speed)
+        reached = self.pregrasp_done & ((gap < cfg.grasp_tolerance) | blocked)
         self._advance(reached & (self.phase == APPROACH), CLOSE)
 
         holding = self.phase >= CLOSE
