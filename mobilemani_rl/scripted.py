@@ -38,7 +38,7 @@ class ScriptedPolicyCfg:
     pregrasp_alignment: float = 0.985  # cosine between palm and approach directions needed to go in (~10°)
     grasp_depth: float = 0.0  # m past the grasp point (along the approach direction) where the palm point stops
     grasp_tolerance: float = 0.012
-    blocked_radius: float = 0.05  # a pick closes where the palm stopped this close to the grasp point
+    blocked_radius: float = 0.05  # the palm stopped this close to the grasp point (touching the object): close
     blocked_speed: float = 0.01  # m/s
     close_steps: int = 8
     follow_handle: bool = True  # approach from the grip's free side (else along the grasp direction)
@@ -128,9 +128,7 @@ class ScriptedPolicy:
             pitch = euler_from_quat(quat_mul(env.palm_rot_target, quat_conj(f.palm_quat)))[:, 1]
             actions[:, 4] = np.clip(cfg.rot_gain * pitch, -1.0, 1.0)
         gap = np.linalg.norm(grasp_target - f.palm_pos, axis=1)
-        # A picked object larger than the finger cage stops the palm short of its centre of mass.
-        blocked = self.from_above & (gap < cfg.blocked_radius) & (
-            np.linalg.norm(f.palm_linvel, axis=1) < cfg.blocked_speed)
+        blocked = (gap < cfg.blocked_radius) & (np.linalg.norm(f.palm_linvel, axis=1) < cfg.blocked_speed)
         reached = self.pregrasp_done & ((gap < cfg.grasp_tolerance) | blocked)
         self._advance(reached & (self.phase == APPROACH), CLOSE)
 
