@@ -18,8 +18,9 @@ import hydra
 from omegaconf import DictConfig
 
 from mobilemani_data.collect import collect
-from mobilemani_data.config import DataCfg, SubsetCfg, data_cfg_from_hydra
+from mobilemani_data.config import DataCfg, data_cfg_from_hydra
 from mobilemani_data.export import export
+from mobilemani_rl.tasks import SubsetCfg
 
 BENCH_SUBSET = dict(objects=["dishwasher/0000"], skills=["open"], scenes_per_object=1)
 

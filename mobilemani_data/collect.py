@@ -15,11 +15,12 @@ import hydra
 from omegaconf import DictConfig, OmegaConf
 
 from mobilemani_data import schema
-from mobilemani_data.combos import Combination, select_combinations, shard_of
+from mobilemani_data.combos import shard_of, shard_path
 from mobilemani_data.config import DataCfg, data_cfg_from_hydra
 from mobilemani_data.recorder import collect_successes
 from mobilemani_data.shards import is_complete, write_shard
 from mobilemani_data.teachers import TeacherUnavailable, build_teacher
+from mobilemani_rl.tasks import Combination, select_combinations
 
 
 def collect_combination(cfg: DataCfg, combo: Combination, path: Path) -> str:
@@ -45,7 +46,7 @@ def collect(cfg: DataCfg) -> list[Path]:
     raw_dir = Path(cfg.raw_dir)
     paths = []
     for k, combo in enumerate(combos):
-        path = raw_dir / combo.shard_path
+        path = raw_dir / shard_path(combo)
         paths.append(path)
         if is_complete(path):
             print(f"[{k + 1}/{len(combos)}] {combo.name}: complete, skipped")

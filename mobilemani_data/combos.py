@@ -1,91 +1,16 @@
-"""The (object, skill, scene) combinations a collection covers, their shard names, seeds and instructions."""
+"""Data-side naming of task combinations: shard paths and the round-robin split of work between jobs."""
 
 from __future__ import annotations
 
-import zlib
-from dataclasses import asdict, dataclass
 from pathlib import PurePosixPath
 
-from mobilemani_data.config import ShardCfg, SubsetCfg
-from mobilemani_rl.assets.objects import ALL_SKILLS, CATEGORIES, SPLITS, catalog_ids, get_object
-from mobilemani_rl.assets.robots import ROBOTS
-from mobilemani_rl.assets.scenes import get_placement, placements_for
-from mobilemani_rl.registry import UnknownNameError, check_choice
-
-# Reference §8f: the verb is the skill (carts already pull/push, rigid objects pick); the noun is the object's
-# category with underscores as spaces, except that both door kinds are "door" and the YCB-like set, which has
-# no per-object names here, is "object".
-NOUNS = {"lever_door": "door", "round_door": "door", "holistic": "object"}
+from mobilemani_data.config import ShardCfg
+from mobilemani_rl.tasks import Combination
 
 
-def instruction(skill: str, category: str) -> str:
-    return f"{skill} {NOUNS.get(category, category.replace('_', ' '))}"
-
-
-@dataclass(frozen=True)
-class Combination:
-    robot: str
-    object_id: str
-    category: str
-    skill: str
-    scene: str
-    split: str  # the object's split ("none" for the hand-made test objects)
-    scene_split: str
-
-    @property
-    def name(self) -> str:
-        return f"{self.robot}/{self.object_id}/{self.skill}/{self.scene}"
-
-    @property
-    def shard_path(self) -> PurePosixPath:
-        """Relative shard path: <robot>/<category>/<index>/<skill>/<setting>_<NN>.h5."""
-        return PurePosixPath(self.robot, self.object_id, self.skill, self.scene.replace("/", "_") + ".h5")
-
-    @property
-    def instruction(self) -> str:
-        return instruction(self.skill, self.category)
-
-    def seed(self, base: int) -> int:
-        """Env seed: the same combination and base seed always replay the same rollouts."""
-        return (base * 1_000_003 + zlib.crc32(self.name.encode())) % 2**31
-
-    def metadata(self) -> dict[str, str]:
-        return asdict(self)
-
-
-def _object_ids(subset: SubsetCfg) -> list[str]:
-    if subset.objects:
-        return [get_object(oid).object_id for oid in subset.objects]
-    categories = subset.categories or list(CATEGORIES)
-    ids: list[str] = []
-    for category in categories:
-        found = catalog_ids(category, subset.split)
-        ids += found[:subset.objects_per_category] if subset.objects_per_category else found
-    return ids
-
-
-def select_combinations(robot: str, subset: SubsetCfg) -> list[Combination]:
-    """Every requested combination in a stable order; stops with one message on unknown names."""
-    check_choice(robot, ROBOTS, "robot")
-    check_choice(subset.split, SPLITS, "split")
-    scene_split = subset.scene_split or subset.split
-    check_choice(scene_split, SPLITS, "scene split")
-    for skill in subset.skills or ():
-        check_choice(skill, ALL_SKILLS, "skill")
-    wanted_scenes = [get_placement(s).scene_id for s in subset.scenes] if subset.scenes else None
-    combos = []
-    for oid in _object_ids(subset):
-        obj = get_object(oid)
-        skills = [s for s in obj.skills if subset.skills is None or s in subset.skills]
-        scenes = [p.scene_id for p in placements_for(obj, scene_split)]
-        if wanted_scenes is not None:
-            scenes = [s for s in scenes if s in wanted_scenes]
-        scenes = scenes[:subset.scenes_per_object] if subset.scenes_per_object else scenes
-        combos += [Combination(robot, oid, obj.category, skill, scene, obj.split or "none", scene_split)
-                   for skill in skills for scene in scenes]
-    if not combos:
-        raise UnknownNameError(f"the subset {subset} selects no (object, skill, scene) combination")
-    return combos
+def shard_path(combo: Combination) -> PurePosixPath:
+    """Relative shard path: <robot>/<category>/<index>/<skill>/<setting>_<NN>.h5."""
+    return PurePosixPath(combo.robot, combo.object_id, combo.skill, combo.scene.replace("/", "_") + ".h5")
 
 
 def shard_of(combos: list[Combination], shard: ShardCfg) -> list[Combination]:

@@ -9,22 +9,8 @@ from dataclasses import dataclass, field
 
 from omegaconf import DictConfig, OmegaConf
 
-from mobilemani_rl.envs.config import EnvCfg, TaskCfg, env_cfg_from_hydra
-
-
-@dataclass
-class SubsetCfg:
-    """Which (object, skill, scene) combinations to record, and how many successful episodes each."""
-
-    split: str = "train"  # object split; explicit `objects` ignore it
-    scene_split: str | None = None  # scene split (rooms 00–15 train, 16–19 test); None: same as `split`
-    categories: list[str] | None = None  # None: all 20
-    objects: list[str] | None = None  # explicit object ids; None: the catalog's objects of the split
-    objects_per_category: int | None = None  # first k objects of each category; None: all
-    skills: list[str] | None = None  # None: every skill of each object
-    scenes: list[str] | None = None  # explicit scene ids (those of the object's setting are used)
-    scenes_per_object: int | None = None  # first k scenes of the object's setting; None: all of the split
-    episodes: int = 10  # successful episodes per combination (reference §8a)
+from mobilemani_rl.envs.config import EnvCfg, env_cfg_from_hydra
+from mobilemani_rl.tasks import SubsetCfg
 
 
 @dataclass
@@ -111,10 +97,3 @@ def data_cfg_from_hydra(cfg: DictConfig) -> DataCfg:
     out: DataCfg = OmegaConf.to_object(merged)
     out.env = env_cfg_from_hydra(OmegaConf.create({"env": plain["env"], "task": {"robot": cfg.task.robot}}))
     return out
-
-
-def recording_env_cfg(base: EnvCfg, task: TaskCfg, num_envs: int, seed: int) -> EnvCfg:
-    """The env config one combination is recorded with: the base settings, its task, recording resets."""
-    merged = OmegaConf.merge(OmegaConf.structured(base), {"task": OmegaConf.structured(task), "num_envs": num_envs,
-                                                          "seed": seed, "reset": {"recording": True}})
-    return OmegaConf.to_object(merged)

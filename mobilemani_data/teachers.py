@@ -8,13 +8,13 @@ from pathlib import Path
 
 from omegaconf import OmegaConf
 
-from mobilemani_data.combos import Combination
-from mobilemani_data.config import TeacherCfg, recording_env_cfg
+from mobilemani_data.config import TeacherCfg
 from mobilemani_data.recorder import Policy
 from mobilemani_rl.envs.config import EnvCfg, TaskCfg
 from mobilemani_rl.envs.mobilemani_env import MobileManiEnv
 from mobilemani_rl.registry import check_choice
 from mobilemani_rl.scripted import ScriptedPolicy
+from mobilemani_rl.tasks import Combination, recording_env_cfg
 
 KINDS = ("scripted", "ppo")
 

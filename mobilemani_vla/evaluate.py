@@ -22,12 +22,11 @@ from pathlib import Path
 import hydra
 from omegaconf import DictConfig, OmegaConf
 
-from mobilemani_data.combos import Combination, select_combinations
-from mobilemani_data.config import recording_env_cfg
 from mobilemani_rl.envs.config import TaskCfg
 from mobilemani_rl.envs.mobilemani_env import MobileManiEnv
 from mobilemani_rl.eval import HeadCameraRecorder
 from mobilemani_rl.rl.run_dir import write_json_atomic
+from mobilemani_rl.tasks import Combination, recording_env_cfg, select_combinations
 from mobilemani_vla.eval_config import EvalCfg, eval_cfg_from_hydra
 from mobilemani_vla.harness import run_batch
 from mobilemani_vla.policies.base import EvalPolicy

@@ -6,11 +6,12 @@ from data_helpers import CONF, tiny_cfg
 from hydra import compose, initialize_config_dir
 from omegaconf.errors import ConfigKeyError
 
-from mobilemani_data.combos import instruction, select_combinations, shard_of
+from mobilemani_data.combos import shard_of, shard_path
 from mobilemani_data.config import DataCfg, ShardCfg, SubsetCfg, data_cfg_from_hydra
 from mobilemani_data.convert import episode_vectors
 from mobilemani_data.shards import FRAME_KEYS, Episode
 from mobilemani_rl.registry import UnknownNameError
+from mobilemani_rl.tasks import instruction, select_combinations
 
 
 @pytest.mark.parametrize(("skill", "category", "text"), [
@@ -26,7 +27,7 @@ def test_tiny_subset_is_two_objects_two_skills_two_scenes(tmp_path):
     combos = select_combinations(cfg.robot, cfg.subset)
     assert len(combos) == 8
     assert {c.scene for c in combos} == {"tabletop/00", "tabletop/01", "space/00", "space/01"}
-    assert len({c.shard_path for c in combos}) == 8
+    assert len({shard_path(c) for c in combos}) == 8
     assert combos[0].seed(0) == combos[0].seed(0) != combos[1].seed(0)
 
 

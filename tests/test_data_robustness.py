@@ -9,11 +9,12 @@ from pathlib import Path
 from data_helpers import tiny_cfg
 
 from mobilemani_data.collect import collect
-from mobilemani_data.combos import select_combinations
+from mobilemani_data.combos import shard_path
 from mobilemani_data.export import export
 from mobilemani_data.metadata import read_episodes, read_export_report
 from mobilemani_data.shards import PARTIAL_SUFFIX, read_shard, shard_paths
 from mobilemani_data.validate import validate
+from mobilemani_rl.tasks import select_combinations
 
 ROOT = Path(__file__).resolve().parents[1]
 # One object, both skills, both scenes: four shards.
@@ -35,7 +36,7 @@ def test_killed_collection_reruns_to_exact_counts(tmp_path):
     first = {p: p.stat().st_mtime_ns for p in done}
     # A write cut short leaves a truncated partial file; the rerun must neither read nor keep it.
     cfg = tiny_cfg(tmp_path, *SUBSET)
-    missing = next(p for c in select_combinations(cfg.robot, cfg.subset) if not (p := raw / c.shard_path).exists())
+    missing = next(p for c in select_combinations(cfg.robot, cfg.subset) if not (p := raw / shard_path(c)).exists())
     missing.parent.mkdir(parents=True, exist_ok=True)
     missing.with_name(missing.name + PARTIAL_SUFFIX).write_bytes(b"\x89HDF\r\n\x1a\n truncated")
 
