@@ -12,7 +12,7 @@ PYTHON312 ?= $(shell for c in python3.12 $$(pyenv root 2>/dev/null)/versions/3.1
 
 ROBOT ?= g1
 
-.PHONY: setup test test-slow lint bench bench-sim bench-ppo clean-venv rl tables vla bench-vla eval
+.PHONY: setup test test-slow lint bench bench-sim bench-ppo clean-venv rl tables vla bench-vla demo eval
 
 setup: $(VENV)/.installed
 
@@ -48,26 +48,34 @@ bench-ppo: setup
 OBJECT ?= test/box
 SKILL ?= open
 PPO ?= cpu
+RL_ARGS ?=
 rl: setup
 	$(PY) -m mobilemani_rl.train robot=$(ROBOT) task.object=$(OBJECT) task.skill=$(SKILL) rl/ppo=$(PPO) \
-		eval_episodes=256
+		eval_episodes=256 $(RL_ARGS)
 
+# Tables (Markdown + LaTeX) and bar plots from teacher evaluations and closed-loop results.
+RL_RUNS ?= runs/rl
+EVAL_RESULTS ?= results/eval
+TABLES ?= results
+MAIN_RUN ?= default
 tables: setup
-	$(PY) scripts/rl_tables.py runs/rl --out results/rl
-	$(PY) scripts/vla_tables.py results/eval --out results/vla
+	$(PY) scripts/rl_tables.py $(RL_RUNS) --out $(TABLES)/rl
+	$(PY) scripts/vla_tables.py $(EVAL_RESULTS) --out $(TABLES)/vla --main $(MAIN_RUN)
 
 # Closed-loop evaluation (Hydra root conf/eval.yaml): make eval ROBOT=g1 CHECKPOINT=<VLA checkpoint dir>
 #   [POLICY=vla|lerobot|teacher|scripted|random PROTOCOL=paper|ablation|small SPLIT=unseen_unseen|seen_unseen|.. NAME=..]
 POLICY ?= vla
 PROTOCOL ?= paper
 SPLIT ?= unseen_unseen
+EVAL_ARGS ?=
 eval: setup
 	$(PY) -m mobilemani_vla.evaluate robot=$(ROBOT) eval/policy=$(POLICY) eval/protocol=$(PROTOCOL) eval/split=$(SPLIT) \
-		$(if $(CHECKPOINT),policy.checkpoint=$(CHECKPOINT)) $(if $(NAME),name=$(NAME))
+		$(if $(CHECKPOINT),policy.checkpoint=$(CHECKPOINT)) $(if $(NAME),name=$(NAME)) $(EVAL_ARGS)
 
 # VLA training (Hydra root conf/vla.yaml): make vla ROBOT=g1 [EXPERIMENT=ablation_image_head_rgb]
+VLA_ARGS ?=
 vla: setup
-	$(PY) -m mobilemani_vla.train robot=$(ROBOT) $(if $(EXPERIMENT),+experiment=$(EXPERIMENT))
+	$(PY) -m mobilemani_vla.train robot=$(ROBOT) $(if $(EXPERIMENT),+experiment=$(EXPERIMENT)) $(VLA_ARGS)
 
 bench-vla: setup
 	$(PY) -m mobilemani_vla.bench
@@ -87,6 +95,24 @@ data: setup
 
 bench-data: setup
 	$(PY) -m mobilemani_data.bench robot=$(ROBOT)
+
+# The whole chain at small scale (about 25 minutes on 2 cores): a PPO teacher for g1 opening test/box, a dataset
+# from it in three train rooms, a tiny VLA, closed-loop evaluation of both in unseen rooms, tables and a report.
+# Every stage resumes or skips finished work, so a rerun after an interruption continues.
+DEMO ?= runs/demo
+DEMO_VLA_STEPS ?= 600
+demo: setup
+	$(MAKE) rl ROBOT=g1 OBJECT=test/box SKILL=open RL_ARGS="run_dir=$(DEMO)/rl/g1/test/box/open rl.ppo.max_iterations=300"
+	$(MAKE) data ROBOT=g1 SUBSET=demo TEACHER=ppo \
+		DATA_ARGS="data_dir=$(DEMO)/data teacher.runs_dir=$(DEMO)/rl export.width=224 export.height=224"
+	$(MAKE) vla ROBOT=g1 VLA_ARGS="name=demo data.root=$(DEMO)/data/lerobot train.output_dir=$(DEMO)/vla \
+		train.steps=$(DEMO_VLA_STEPS) train.save_every=$(DEMO_VLA_STEPS) train.lr=3e-4 train.logger=none"
+	$(MAKE) eval ROBOT=g1 POLICY=teacher PROTOCOL=demo NAME=teacher \
+		EVAL_ARGS="output_dir=$(DEMO)/eval policy.runs_dir=$(DEMO)/rl"
+	$(MAKE) eval ROBOT=g1 POLICY=vla PROTOCOL=demo NAME=vla CHECKPOINT=$(DEMO)/vla/checkpoints/step_$(DEMO_VLA_STEPS) \
+		EVAL_ARGS="output_dir=$(DEMO)/eval video_episodes=1"
+	$(MAKE) tables RL_RUNS=$(DEMO)/rl EVAL_RESULTS=$(DEMO)/eval TABLES=$(DEMO)/tables MAIN_RUN=vla
+	$(PY) -m scripts.demo_report $(DEMO)
 
 clean-venv:
 	rm -rf $(VENV)

@@ -75,7 +75,7 @@ class DiffusionCfg:
 
 @dataclass
 class DataCfg:
-    root: str = "data/lerobot/g1"
+    root: str = "data/g1/lerobot"
     repo_id: str = "mobilemani/g1"
     episodes: list[int] | None = None
     video_backend: str = "pyav"

@@ -37,13 +37,9 @@ def load_run(run_dir: Path) -> dict[str, list[tuple[float, float, float]]]:
     return series
 
 
-def main() -> None:
-    parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    parser.add_argument("runs", nargs="+", type=Path)
-    parser.add_argument("--out", type=Path, default=Path("training_curve.png"))
-    args = parser.parse_args()
+def plot_runs(runs: list[Path], out: Path) -> Path:
     fig, axes = plt.subplots(1, 3, figsize=(15, 4))
-    for run_dir in args.runs:
+    for run_dir in runs:
         series = load_run(run_dir)
         label = "/".join(run_dir.parts[-4:])
         samples, seconds, success = zip(*series[SUCCESS], strict=True) if series[SUCCESS] else ((), (), ())
@@ -59,8 +55,17 @@ def main() -> None:
         ax.grid(alpha=0.3)
     axes[0].legend(fontsize=8)
     fig.tight_layout()
-    fig.savefig(args.out, dpi=120)
-    print(f"wrote {args.out}")
+    fig.savefig(out, dpi=120)
+    plt.close(fig)
+    return out
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    parser.add_argument("runs", nargs="+", type=Path)
+    parser.add_argument("--out", type=Path, default=Path("training_curve.png"))
+    args = parser.parse_args()
+    print(f"wrote {plot_runs(args.runs, args.out)}")
 
 
 if __name__ == "__main__":

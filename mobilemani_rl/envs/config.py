@@ -16,12 +16,12 @@ class PhysicsCfg:
     """Control runs at 30 Hz as the reference (60 Hz PhysX, decimation 2).
 
     MuJoCo takes `substeps` steps per control step (timestep = 1 / (control_hz * substeps)). 3 substeps
-    (11.1 ms) is the largest setting at which the scripted grasps stay stable: measured with
-    scripts/physics_stability.py, 3 and 4 substeps give the same success, contact penetration (~8–9 mm peak
-    with the g1 gripper) and in-hand slip (~1.3–4 cm), while 2 substeps (16.7 ms, the reference's rate)
-    lets a picked can sink 4 cm into the fingers and slip out (success 0.75 vs 0.88 on g1 pick, 0.22 vs 0.97
-    on xhand open). MuJoCo clamps contact time constants to twice the timestep, so larger steps mean softer
-    contacts.
+    (11.1 ms) is the largest setting at which the scripted grasps stay stable, measured with
+    scripts/physics_stability.py (16 envs per task): at 3 substeps g1 opens the box in 100 % of episodes with at
+    most 6.7 mm contact penetration and picks the can in 88 % (24 mm); at 2 substeps (16.7 ms, the reference's
+    rate) penetration grows to 9.1 / 29.8 mm and the pick drops to 75 % as the light can slips out. No setting
+    produced NaNs or simulation errors. MuJoCo clamps contact time constants to twice the timestep, so larger
+    steps mean softer contacts.
     """
 
     control_hz: float = 30.0

@@ -1,0 +1,105 @@
+"""Write the `make demo` report: what each stage produced, with the tables, plots and a rollout video.
+
+    python scripts/demo_report.py runs/demo
+
+Reads the stage outputs under the demo directory (teacher run and its evaluation, the LeRobot dataset, the VLA
+training losses, the closed-loop summaries, the tables) and writes <demo>/report.md, printing it too.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+from pathlib import Path
+
+import matplotlib
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt  # noqa: E402
+import numpy as np  # noqa: E402
+
+from scripts.plot_training_curve import plot_runs  # noqa: E402
+
+
+def newest(paths: list[Path]) -> Path | None:
+    return max(paths, key=lambda p: p.stat().st_mtime) if paths else None
+
+
+def teacher_section(demo: Path, out: Path) -> list[str]:
+    run = demo / "rl" / "g1" / "test" / "box" / "open"
+    evaluation = newest(list(run.glob("eval_*.json")))
+    result = json.loads((run / "result.json").read_text())
+    lines = ["## 1. Teacher (PPO, g1 opens test/box)", "",
+             f"- {result['iterations']} iterations, {result['samples'] / 1e6:.2f} M samples"]
+    if evaluation is not None:
+        rate = json.loads(evaluation.read_text())["success_rate"]
+        lines.append(f"- success over 256 seeded evaluation episodes: **{100 * rate:.1f}%** ({evaluation.name})")
+    curve = plot_runs([run], out / "teacher_curve.png")
+    return lines + ["", f"![teacher training curve]({curve.name})", ""]
+
+
+def dataset_section(demo: Path) -> list[str]:
+    info = json.loads((demo / "data" / "lerobot" / "meta" / "info.json").read_text())
+    episodes, frames = info["total_episodes"], info["total_frames"]
+    return ["## 2. Dataset (LeRobot v3, teacher rollouts in 3 train rooms)", "",
+            f"- {episodes} successful episodes, {frames} frames ({frames / max(episodes, 1):.0f} per episode at "
+            f"{info['fps']} FPS), cameras: {', '.join(k for k in info['features'] if k.startswith('observation.images'))}",
+            ""]
+
+
+def vla_section(demo: Path, out: Path) -> list[str]:
+    losses = np.array(json.loads((demo / "vla" / "last_run.json").read_text())["losses"])
+    window = max(1, len(losses) // 20)
+    smooth = np.convolve(losses, np.ones(window) / window, mode="valid")
+    fig, ax = plt.subplots(figsize=(6, 3.5))
+    ax.plot(losses, alpha=0.3, label="per step")
+    ax.plot(np.arange(len(smooth)) + window - 1, smooth, label=f"mean of {window}")
+    ax.set(xlabel="step", ylabel="diffusion loss (epsilon MSE)", yscale="log")
+    ax.legend()
+    fig.tight_layout()
+    fig.savefig(out / "vla_loss.png", dpi=120)
+    plt.close(fig)
+    start, end = losses[: max(1, window)].mean(), losses[-window:].mean()
+    return ["## 3. MobileManiVLA (tiny config, CPU)", "",
+            f"- {len(losses)} training steps; loss {start:.3f} -> {end:.3f}", "", "![VLA loss](vla_loss.png)", ""]
+
+
+def eval_section(demo: Path, out: Path) -> list[str]:
+    lines = ["## 4. Closed-loop evaluation (test/box open, unseen test rooms)", "",
+             "| policy | success | episodes |", "|---|---|---|"]
+    for name in ("teacher", "vla"):
+        summary = newest(list((demo / "eval" / "g1" / name).glob("*.summary.json")))
+        if summary is not None:
+            overall = json.loads(summary.read_text())["overall"]
+            lines.append(f"| {name} | {100 * overall['success_rate']:.1f}% | {overall['episodes']} |")
+    video = newest(list((demo / "eval" / "g1").rglob("*.mp4")))
+    if video is not None:
+        lines += ["", f"Rollout video (head camera): [{video.relative_to(demo)}]({video.relative_to(out)})"]
+    return lines + [""]
+
+
+def tables_section(demo: Path) -> list[str]:
+    lines = ["## 5. Tables", ""]
+    for path in sorted((demo / "tables").rglob("*.md")):
+        lines += [path.read_text(), ""]
+    for png in sorted((demo / "tables").rglob("*.png")):
+        lines += [f"![{png.stem}]({png.relative_to(demo)})", ""]
+    return lines
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    parser.add_argument("demo", type=Path)
+    args = parser.parse_args()
+    demo = args.demo
+    lines = ["# MobileManiBench-MuJoCo demo report", ""]
+    lines += teacher_section(demo, demo) + dataset_section(demo) + vla_section(demo, demo)
+    lines += eval_section(demo, demo) + tables_section(demo)
+    report = demo / "report.md"
+    report.write_text("\n".join(lines))
+    print("\n".join(lines))
+    print(f"wrote {report}")
+
+
+if __name__ == "__main__":
+    main()
