@@ -38,8 +38,7 @@ FINGER_TRAVEL = 0.04  # per finger; fully open gap = 8 cm
 # Gripper frame at zero arm angles: approach (+z) = world -z, finger opening axis (+x) = world +y.
 GRIPPER_QUAT = (0.0, math.sqrt(0.5), math.sqrt(0.5), 0.0)
 
-# Palm forward at about 0.73 m, above most tabletop stages, so the hand reaches objects from above the edge.
-DEFAULT_ARM = (1.0, 0.0, 0.0, math.pi / 2 - 0.7, 0.0, -0.3, 0.0)
+DEFAULT_ARM = (0.5, 0.0, 0.0, math.pi / 2 - 0.5, 0.0, 0.0, 0.0)
 
 
 def _build_gripper(spec: mujoco.MjSpec, wrist: mujoco.MjsBody) -> None:
