@@ -3,8 +3,9 @@
     python -m mobilemani_rl.bench [--robots g1 xhand] [--envs 64 256 1024] [--seconds 3]
 
 env: `MobileManiEnv.step` with random actions (IK, physics, observations, rewards, resets).
-raw: the same compiled model in a `mujoco.batch.Batch` of the same size and thread count, started from the
-env's states, stepped `substeps` times per control step with no Python work in between.
+raw: the same compiled model in a `mujoco.batch.Batch` of the same size and thread count replaying the joint
+targets the env produced (same start state, same motion), in one `Batch.rollout` call per 32 control steps, so
+with no Python work between steps.
 Both report control steps per second (x substeps = physics steps per second), best of interleaved trials.
 Prints a table and JSON.
 """
@@ -24,33 +25,49 @@ from mobilemani_rl.envs.config import EnvCfg, TaskCfg
 from mobilemani_rl.envs.mobilemani_env import MobileManiEnv
 
 
-def interleaved_rates(steps: dict[str, Callable[[], None]], n: int, seconds: float, trials: int = 6,
-                       ) -> dict[str, float]:
-    """Best control-steps/s of each stepper; trials alternate between steppers so that background load
-    drifts affect them alike."""
-    for step in steps.values():
-        for _ in range(5):
-            step()
-    best = dict.fromkeys(steps, 0.0)
-    budget = seconds / (trials * len(steps))
+def interleaved_rates(steppers: dict[str, tuple[Callable[[], None], int]], n: int, seconds: float,
+                      trials: int = 6) -> dict[str, float]:
+    """Best env-steps/s of each stepper (a call and the control steps it advances); trials alternate between
+    steppers so that background load drifts affect them alike."""
+    for step, _ in steppers.values():
+        step()
+    best = dict.fromkeys(steppers, 0.0)
+    budget = seconds / (trials * len(steppers))
     for _ in range(trials):
-        for name, step in steps.items():
+        for name, (step, per_call) in steppers.items():
             start, done = time.perf_counter(), 0
             while time.perf_counter() - start < budget:
                 step()
-                done += 1
+                done += per_call
             best[name] = max(best[name], done * n / (time.perf_counter() - start))
     return best
 
 
-def raw_physics_stepper(env: MobileManiEnv) -> Callable[[], None]:
-    """One control step's worth of physics for the env's compiled model, with no Python work per step: a fresh
-    `mujoco.batch.Batch` of the same size and threads, started from the env's current states."""
-    raw = mujoco.batch.Batch(env.model, env.num_envs, nthread=env.cfg.physics.nthread)
-    for field in ("qpos", "qvel", "ctrl", "mocap_pos", "mocap_quat"):
-        raw.bind(field)[:] = env.batch.bind(field)
+def raw_physics_replay(env: MobileManiEnv, rng: np.random.Generator, segment: int = 32,
+                       ) -> tuple[Callable[[], None], int]:
+    """The raw physics limit for the env's own workload: record the joint targets the env sends while it steps
+    `segment` control steps of random actions, then replay them in a fresh `mujoco.batch.Batch` of the same
+    model, size and threads with one `Batch.rollout` call (no Python between steps), from the same start state.
+
+    Replaying the env's controls keeps the physics work equal (moving arms, contacts); a batch stepped with
+    fixed controls settles and measures a cheaper, idle robot.
+    """
+    fields = ("qpos", "qvel", "ctrl", "mocap_pos", "mocap_quat")
+    start = {f: env.batch.bind(f).copy() for f in fields}
+    controls = np.empty((env.num_envs, segment, env.model.nu))
+    for k in range(segment):
+        env.step(rng.uniform(-1, 1, (env.num_envs, env.num_actions)))
+        controls[:, k] = env.view.ctrl
     substeps = env.cfg.physics.substeps
-    return lambda: raw.step(nstep=substeps)
+    per_substep = np.repeat(controls, substeps, axis=1)
+    raw = mujoco.batch.Batch(env.model, env.num_envs, nthread=env.cfg.physics.nthread)
+
+    def replay() -> None:
+        for field, value in start.items():
+            raw.bind(field)[:] = value
+        raw.rollout(segment * substeps, control=per_substep, control_spec=mujoco.mjtState.mjSTATE_CTRL)
+
+    return replay, segment
 
 
 def bench_task(robot: str, num_envs: int, seconds: float, obj: str = "test/box", skill: str = "open") -> dict:
@@ -64,7 +81,8 @@ def bench_task(robot: str, num_envs: int, seconds: float, obj: str = "test/box",
         env.step(actions[next(counter) % len(actions)])
 
     substeps = env.cfg.physics.substeps
-    rates = interleaved_rates({"env": env_step, "raw": raw_physics_stepper(env)}, num_envs, seconds)
+    raw = raw_physics_replay(env, rng)
+    rates = interleaved_rates({"env": (env_step, 1), "raw": raw}, num_envs, seconds)
     env_rate, raw_rate = rates["env"], rates["raw"]
     return {
         "robot": robot, "num_envs": num_envs, "substeps": substeps, "timestep": env.model.opt.timestep,

@@ -22,7 +22,7 @@ from mobilemani_rl.envs.observations import compute_observation, normalize_to_li
 from mobilemani_rl.envs.resets import sample_episode_start
 from mobilemani_rl.envs.rewards import RewardContext, TaskDistances, grasp_flag, reward_terms, total_reward
 from mobilemani_rl.envs.scene import build_scene
-from mobilemani_rl.rotations import quat_from_euler, quat_mul
+from mobilemani_rl.rotations import quat_from_euler, quat_mul, vector_norm
 
 # The palm-rotation reach term is on only for these (category, skill) pairs (reference §5b).
 PALM_ROTATION_TASKS = {("holistic", "pick"), ("refrigerator", "open")}
@@ -161,8 +161,8 @@ class MobileManiEnv:
         truncated = (self.episode_length_buf >= self.max_episode_length - 1) | (
             self.success_count >= scfg.hold_steps)
         terminated = (dist.hand > scfg.max_hand_distance) | (
-            np.linalg.norm(frames.palm_linvel, axis=1) > scfg.max_speed) | (
-            np.linalg.norm(frames.grasp_linvel, axis=1) > scfg.max_speed)
+            vector_norm(frames.palm_linvel) > scfg.max_speed) | (
+            vector_norm(frames.grasp_linvel) > scfg.max_speed)
         terminated &= ~truncated
         grasped = grasp_flag(dist, scfg)
         success = dist.goal < scfg.threshold

@@ -5,7 +5,7 @@ from __future__ import annotations
 import numpy as np
 
 from mobilemani_rl.envs.frames import Frames
-from mobilemani_rl.rotations import euler_from_quat
+from mobilemani_rl.rotations import euler_from_quat, vector_norm
 
 TIME_ENCODING_DIM = 30
 # f_i = exp(-2i·ln(10000)/30), i = 0..14: slot 2i = sin(t·f_i), slot 2i+1 = cos(t·f_i), t in control steps.
@@ -42,9 +42,9 @@ def compute_observation(frames: Frames, steps: np.ndarray, last_action: np.ndarr
                       axis=2).reshape(n, 3 * frames.joint_pos.shape[1])
     grasp = frames.grasp_pos
     robot_object = np.concatenate((
-        np.linalg.norm(grasp - frames.palm_pos, axis=1, keepdims=True),
-        np.linalg.norm(frames.finger_pos - grasp[:, None], axis=2),
-        np.linalg.norm(frames.body_pos - grasp[:, None], axis=2),
+        vector_norm(grasp - frames.palm_pos, keepdims=True),
+        vector_norm(frames.finger_pos - grasp[:, None]),
+        vector_norm(frames.body_pos - grasp[:, None]),
         grasp - frames.palm_pos,
     ), axis=1)
     obj = np.concatenate((grasp, euler_from_quat(frames.grasp_quat), goal_pos - grasp), axis=1)

@@ -8,7 +8,14 @@ import numpy as np
 
 from mobilemani_rl.envs.config import RewardWeights, SuccessCfg
 from mobilemani_rl.envs.frames import Frames
-from mobilemani_rl.rotations import euler_from_quat, quat_apply, quat_between_vectors, quat_conj, quat_mul
+from mobilemani_rl.rotations import (
+    euler_from_quat,
+    quat_apply,
+    quat_between_vectors,
+    quat_conj,
+    quat_mul,
+    vector_norm,
+)
 
 GRASP_DIRECTION = np.array([0.0, 1.0, 0.0])  # articulated and YCB tasks alike (reference §5a)
 PALM_AXIS = np.array([0.0, 0.0, 1.0])  # palm direction = the hand body's local +z
@@ -25,13 +32,13 @@ class TaskDistances:
     @classmethod
     def measure(cls, frames: Frames, goal_pos: np.ndarray) -> TaskDistances:
         grasp = frames.grasp_pos
-        finger = np.linalg.norm(frames.finger_pos - grasp[:, None], axis=2)
+        finger = vector_norm(frames.finger_pos - grasp[:, None])
         return cls(
-            hand=np.linalg.norm(frames.palm_pos - grasp, axis=1),
+            hand=vector_norm(frames.palm_pos - grasp),
             thumb=finger[:, -1],
             fingers=finger.mean(axis=1),
-            bodies=np.linalg.norm(frames.body_pos - grasp[:, None], axis=2).mean(axis=1),
-            goal=np.linalg.norm(goal_pos - grasp, axis=1),
+            bodies=vector_norm(frames.body_pos - grasp[:, None]).mean(axis=1),
+            goal=vector_norm(goal_pos - grasp),
         )
 
 
@@ -69,7 +76,7 @@ def reward_terms(frames: Frames, actions: np.ndarray, ctx: RewardContext, d: Tas
     hand_target = np.clip(ctx.default_hand_action, -1.0, 1.0)
     to_goal = ctx.goal_pos - frames.grasp_pos
     move_pos_target = np.clip(to_goal / ctx.goal_scale[:, None], -1.0, 1.0)
-    away_from_motion = -to_goal / np.maximum(np.linalg.norm(to_goal, axis=1, keepdims=True), 1e-9)
+    away_from_motion = -to_goal / np.maximum(vector_norm(to_goal, keepdims=True), 1e-9)
     move_rot_target = rotation_to(frames.palm_quat, away_from_motion)
     if ctx.palm_rot_target is None:
         palm_rot = np.zeros(n)
@@ -77,9 +84,9 @@ def reward_terms(frames: Frames, actions: np.ndarray, ctx: RewardContext, d: Tas
         pitch = np.clip(euler_from_quat(quat_mul(ctx.palm_rot_target, quat_conj(frames.palm_quat)))[:, 1], -1, 1)
         palm_rot = np.abs(pitch - actions[:, 4]) * reaching
     return {
-        "diff_reach_pos_action": np.linalg.norm(pos_target - actions[:, 0:3], axis=1) * reaching,
-        "diff_reach_rot_action": np.linalg.norm(rot_target - actions[:, 3:6], axis=1) * reaching,
-        "diff_reach_joint_action": np.linalg.norm(hand_target - actions[:, 6:], axis=1) * reaching,
+        "diff_reach_pos_action": vector_norm(pos_target - actions[:, 0:3]) * reaching,
+        "diff_reach_rot_action": vector_norm(rot_target - actions[:, 3:6]) * reaching,
+        "diff_reach_joint_action": vector_norm(hand_target - actions[:, 6:]) * reaching,
         "diff_reach_palm_rot_action": palm_rot,
         "diff_hand_object": d.hand,
         "diff_hand_body_object": d.bodies,
@@ -87,8 +94,8 @@ def reward_terms(frames: Frames, actions: np.ndarray, ctx: RewardContext, d: Tas
         "diff_hand_finger_object": d.fingers,
         "diff_object_goal": d.goal / ctx.goal_scale,
         "bonus_grasp_object": holding,
-        "diff_move_pos_action": np.linalg.norm(move_pos_target - actions[:, 0:3], axis=1) * holding,
-        "diff_move_rot_action": np.linalg.norm(move_rot_target - actions[:, 3:6], axis=1) * holding,
+        "diff_move_pos_action": vector_norm(move_pos_target - actions[:, 0:3]) * holding,
+        "diff_move_rot_action": vector_norm(move_rot_target - actions[:, 3:6]) * holding,
         # Hard-coded 0.05 m in the reference, equal to the success threshold.
         "bonus_object_goal": (d.goal < success_cfg.threshold) * holding,
     }

@@ -13,9 +13,10 @@ import json
 import time
 from pathlib import Path
 
+import numpy as np
 from hydra import compose, initialize_config_dir
 
-from mobilemani_rl.bench import interleaved_rates, raw_physics_stepper
+from mobilemani_rl.bench import interleaved_rates, raw_physics_replay
 from mobilemani_rl.rl.factory import build_runner, ppo_cfg_from_hydra
 
 CONF = str(Path(__file__).resolve().parents[2] / "conf")
@@ -32,7 +33,8 @@ def bench_preset(preset: str, robot: str, iterations: int) -> dict:
     seconds = time.perf_counter() - start
     samples = iterations * ppo.num_envs * ppo.num_steps_per_env
     env = runner.env.env
-    raw = interleaved_rates({"raw": raw_physics_stepper(env)}, env.num_envs, seconds=2.0)["raw"]
+    raw = interleaved_rates({"raw": raw_physics_replay(env, np.random.default_rng(0))}, env.num_envs,
+                            seconds=2.0)["raw"]
     rate = samples / seconds
     return {"preset": preset, "robot": robot, "num_envs": ppo.num_envs, "iterations": iterations,
             "samples_per_s": round(rate), "raw_env_steps_per_s": round(raw), "ppo_over_raw": round(rate / raw, 3)}
