@@ -32,8 +32,20 @@ class SimView:
         self.site_bodyid = model.site_bodyid
 
 
+class EnvRows:
+    """Row selection and row replacement for dataclasses whose fields are per-env arrays (leading axis)."""
+
+    def rows(self, rows: np.ndarray):
+        return type(self)(**{f.name: getattr(self, f.name)[rows] for f in fields(self)})
+
+    def assign(self, rows: np.ndarray, other) -> None:
+        """Overwrite the given env rows with `other`, which holds exactly those rows."""
+        for f in fields(self):
+            getattr(self, f.name)[rows] = getattr(other, f.name)
+
+
 @dataclass
-class Frames:
+class Frames(EnvRows):
     """Everything observations, rewards and dones need, for a set of envs (leading axis)."""
 
     palm_pos: np.ndarray  # (n, 3)
@@ -55,14 +67,6 @@ class Frames:
     joint_pos: np.ndarray  # (n, J) active joints: IK chain then hand
     joint_vel: np.ndarray
     joint_acc: np.ndarray
-
-    def rows(self, rows: np.ndarray) -> Frames:
-        return Frames(**{f.name: getattr(self, f.name)[rows] for f in fields(self)})
-
-    def assign(self, rows: np.ndarray, other: Frames) -> None:
-        """Overwrite the given env rows with `other`, which holds exactly those rows."""
-        for f in fields(self):
-            getattr(self, f.name)[rows] = getattr(other, f.name)
 
 
 def _point_velocity(view: SimView, ids: np.ndarray, body: np.ndarray, point: np.ndarray,

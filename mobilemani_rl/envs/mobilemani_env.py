@@ -78,6 +78,7 @@ class MobileManiEnv:
         self.goal_scale = np.ones(n)
         self.palm_rot_target = np.tile([1.0, 0.0, 0.0, 0.0], (n, 1))
         self.frames: Frames | None = None
+        self.task_distances: TaskDistances | None = None
         self.obs: np.ndarray | None = None
 
     # ------------------------------------------------------------------ reset
@@ -85,7 +86,7 @@ class MobileManiEnv:
         if seed is not None:
             self.rng = np.random.default_rng(seed)
         self.batch.reset(stage=mujoco.mjtStage.mjSTAGE_NONE)
-        self.frames = None
+        self.frames = self.task_distances = None
         self._reset_envs(self.all_ids)
         self.obs = self._observe()
         return self.obs
@@ -118,11 +119,13 @@ class MobileManiEnv:
         self.batch.forward(ids, stage=mujoco.mjtStage.mjSTAGE_VEL)
         fresh = read_frames(v, idx, ids)
         fresh.joint_acc[:] = 0.0
+        self.goal_pos[ids] = start.goal_pos
+        distances = TaskDistances.measure(fresh, start.goal_pos)
         if self.frames is None:
-            self.frames = fresh
+            self.frames, self.task_distances = fresh, distances
         else:
             self.frames.assign(ids, fresh)
-        self.goal_pos[ids] = start.goal_pos
+            self.task_distances.assign(ids, distances)
         self.goal_scale[ids] = start.goal_scale
         self.palm_rot_target[ids] = quat_mul(PALM_ROTATION_PRE, fresh.palm_quat)
         self.episode_length_buf[ids] = 0
@@ -156,7 +159,7 @@ class MobileManiEnv:
         self.last_action = actions
         frames = self.frames = read_frames(self.view, self.index, self.all_ids)
         scfg = self.cfg.success
-        dist = TaskDistances.measure(frames, self.goal_pos)
+        dist = self.task_distances = TaskDistances.measure(frames, self.goal_pos)
         # Truncation reads the success counter before this step's success is added (reference §5c).
         truncated = (self.episode_length_buf >= self.max_episode_length - 1) | (
             self.success_count >= scfg.hold_steps)
@@ -191,12 +194,12 @@ class MobileManiEnv:
 
     def _observe(self, ids: np.ndarray | None = None) -> np.ndarray:
         if ids is None:
-            frames, ids = self.frames, slice(None)
+            frames, distances, ids = self.frames, self.task_distances, slice(None)
         else:
-            frames = self.frames.rows(ids)
-        return compute_observation(frames, self.env_times[ids], self.last_action[ids], self.goal_pos[ids],
+            frames, distances = self.frames.rows(ids), self.task_distances.rows(ids)
+        return compute_observation(frames, distances, self.env_times[ids], self.last_action[ids], self.goal_pos[ids],
                                    self.joint_limits, self.cfg.obs_clip)
 
     # ------------------------------------------------------------------ queries
     def distances(self) -> TaskDistances:
-        return TaskDistances.measure(self.frames, self.goal_pos)
+        return self.task_distances

@@ -5,7 +5,8 @@ from __future__ import annotations
 import numpy as np
 
 from mobilemani_rl.envs.frames import Frames
-from mobilemani_rl.rotations import euler_from_quat, vector_norm
+from mobilemani_rl.envs.rewards import TaskDistances
+from mobilemani_rl.rotations import euler_from_quat
 
 TIME_ENCODING_DIM = 30
 # f_i = exp(-2i·ln(10000)/30), i = 0..14: slot 2i = sin(t·f_i), slot 2i+1 = cos(t·f_i), t in control steps.
@@ -31,8 +32,8 @@ def normalize_to_limits(values: np.ndarray, limits: np.ndarray) -> np.ndarray:
     return 2.0 * (values - low) / (high - low) - 1.0
 
 
-def compute_observation(frames: Frames, steps: np.ndarray, last_action: np.ndarray, goal_pos: np.ndarray,
-                        joint_limits: np.ndarray, clip: float) -> np.ndarray:
+def compute_observation(frames: Frames, distances: TaskDistances, steps: np.ndarray, last_action: np.ndarray,
+                        goal_pos: np.ndarray, joint_limits: np.ndarray, clip: float) -> np.ndarray:
     n = steps.shape[0]
     palm = np.concatenate((frames.palm_pos, euler_from_quat(frames.palm_quat), frames.palm_linvel,
                            frames.palm_angvel), axis=1)
@@ -41,12 +42,8 @@ def compute_observation(frames: Frames, steps: np.ndarray, last_action: np.ndarr
     joints = np.stack((normalize_to_limits(frames.joint_pos, joint_limits), frames.joint_vel, frames.joint_acc),
                       axis=2).reshape(n, 3 * frames.joint_pos.shape[1])
     grasp = frames.grasp_pos
-    robot_object = np.concatenate((
-        vector_norm(grasp - frames.palm_pos, keepdims=True),
-        vector_norm(frames.finger_pos - grasp[:, None]),
-        vector_norm(frames.body_pos - grasp[:, None]),
-        grasp - frames.palm_pos,
-    ), axis=1)
+    robot_object = np.concatenate((distances.hand[:, None], distances.finger, distances.body, grasp - frames.palm_pos),
+                                  axis=1)
     obj = np.concatenate((grasp, euler_from_quat(frames.grasp_quat), goal_pos - grasp), axis=1)
     obs = np.concatenate((time_encoding(steps), last_action, palm, fingers, joints, robot_object, obj), axis=1)
     return np.clip(np.nan_to_num(obs, nan=0.0, posinf=clip, neginf=-clip), -clip, clip).astype(np.float32)

@@ -7,7 +7,7 @@ from dataclasses import dataclass, fields
 import numpy as np
 
 from mobilemani_rl.envs.config import RewardWeights, SuccessCfg
-from mobilemani_rl.envs.frames import Frames
+from mobilemani_rl.envs.frames import EnvRows, Frames
 from mobilemani_rl.rotations import (
     euler_from_quat,
     quat_apply,
@@ -22,22 +22,33 @@ PALM_AXIS = np.array([0.0, 0.0, 1.0])  # palm direction = the hand body's local 
 
 
 @dataclass
-class TaskDistances:
-    hand: np.ndarray  # d_h: palm point to grasp point
-    thumb: np.ndarray  # last finger point to grasp point
-    fingers: np.ndarray  # mean finger point distance
-    bodies: np.ndarray  # mean active body origin distance
-    goal: np.ndarray  # grasp point to goal
+class TaskDistances(EnvRows):
+    """Point distances to the single grasp point (reference §4/§5); shared by rewards and observations."""
+
+    hand: np.ndarray  # (n,) d_h: palm point to grasp point
+    finger: np.ndarray  # (n, F) each finger point; the thumb (or outer finger) last
+    body: np.ndarray  # (n, B) each active body origin
+    goal: np.ndarray  # (n,) grasp point to goal
+
+    @property
+    def thumb(self) -> np.ndarray:
+        return self.finger[:, -1]
+
+    @property
+    def fingers(self) -> np.ndarray:
+        return self.finger.mean(axis=1)
+
+    @property
+    def bodies(self) -> np.ndarray:
+        return self.body.mean(axis=1)
 
     @classmethod
     def measure(cls, frames: Frames, goal_pos: np.ndarray) -> TaskDistances:
         grasp = frames.grasp_pos
-        finger = vector_norm(frames.finger_pos - grasp[:, None])
         return cls(
             hand=vector_norm(frames.palm_pos - grasp),
-            thumb=finger[:, -1],
-            fingers=finger.mean(axis=1),
-            bodies=vector_norm(frames.body_pos - grasp[:, None]).mean(axis=1),
+            finger=vector_norm(frames.finger_pos - grasp[:, None]),
+            body=vector_norm(frames.body_pos - grasp[:, None]),
             goal=vector_norm(goal_pos - grasp),
         )
 
