@@ -14,7 +14,6 @@ from mobilemani_data.replay import Replayer
 from mobilemani_data.shards import Episode
 from mobilemani_rl.base_frame import Convention, action_to_base, points_to_base, pose_to_base
 from mobilemani_rl.render import CameraRenderer
-from mobilemani_rl.rotations import euler_from_quat
 
 FIRST_FRAME = 1  # state 0 is the reset
 
@@ -24,8 +23,7 @@ def episode_vectors(episode: Episode, num_hand_joints: int, convention: Conventi
     a = {k: v[FIRST_FRAME:] for k, v in episode.arrays.items() if k != "goal_pos"}
     n = len(a["state"])
     base_pos, base_quat = a["base_pos"], a["base_quat"]
-    state = np.concatenate((a["hand_pos"], euler_from_quat(a["hand_quat"]), base_pos, euler_from_quat(base_quat),
-                            a["joint_pos"][:, -num_hand_joints:]), axis=1)
+    state = schema.world_state(a["hand_pos"], a["hand_quat"], base_pos, base_quat, a["joint_pos"][:, -num_hand_joints:])
     # The initial grasp point and the goal are fixed in the world; the base moves, so each frame sees them anew.
     grasp0 = np.broadcast_to(episode.arrays["grasp_pos"][0], (n, 3))
     goal = np.broadcast_to(episode.arrays["goal_pos"], (n, 3))

@@ -12,6 +12,10 @@ last frame's label is the episode's final action (no duplication needed).
 
 from __future__ import annotations
 
+import numpy as np
+
+from mobilemani_rl.rotations import euler_from_quat
+
 FPS = 30
 CAMERAS = ("head", "wrist")
 MODALITIES = ("rgb", "depth", "seg")
@@ -36,6 +40,13 @@ EXPORT_REPORT_FILE = "meta/mobilemani_export.json"  # image size, codec, action 
 
 def image_key(camera: str, modality: str) -> str:
     return f"observation.images.{camera}_{modality}"
+
+
+def world_state(hand_pos: np.ndarray, hand_quat: np.ndarray, base_pos: np.ndarray, base_quat: np.ndarray,
+                hand_joint_pos: np.ndarray) -> np.ndarray:
+    """`observation.state` rows: hand pos, hand RPY, base pos, base RPY, hand joints (all world frame)."""
+    return np.concatenate((hand_pos, euler_from_quat(hand_quat), base_pos, euler_from_quat(base_quat),
+                           hand_joint_pos), axis=-1)
 
 
 def state_dim(num_hand_joints: int) -> int:

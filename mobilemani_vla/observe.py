@@ -14,7 +14,6 @@ from mobilemani_data import schema
 from mobilemani_rl.base_frame import points_to_base, pose_to_base
 from mobilemani_rl.envs.mobilemani_env import MobileManiEnv
 from mobilemani_rl.render import CameraRenderCfg, CameraRenderer
-from mobilemani_rl.rotations import euler_from_quat
 from mobilemani_vla.policies.base import ACTIVE, PRIVILEGED_STATE, TASK, Observation
 
 IMAGE_KEYS = {schema.image_key(c, m): (c, m) for c in schema.CAMERAS for m in schema.MODALITIES}
@@ -43,9 +42,8 @@ class ObservationBuilder:
         started = env.env_times == 0  # the grasp point is taken at reset, like the exporter's first frame
         self.grasp0[started] = f.grasp_pos[started]
         vectors = {
-            schema.STATE: lambda: np.concatenate((f.hand_pos, euler_from_quat(f.hand_quat), f.base_pos,
-                                                  euler_from_quat(f.base_quat),
-                                                  f.joint_pos[:, -len(env.robot.hand_joints):]), axis=1),
+            schema.STATE: lambda: schema.world_state(f.hand_pos, f.hand_quat, f.base_pos, f.base_quat,
+                                                     f.joint_pos[:, -len(env.robot.hand_joints):]),
             schema.WRIST_POSE_BASE: lambda: pose_to_base(f.hand_pos, f.hand_quat, f.base_pos, f.base_quat),
             schema.GRASP_POINT_BASE: lambda: points_to_base(self.grasp0, f.base_pos, f.base_quat),
             schema.GOAL_POINT_BASE: lambda: points_to_base(env.goal_pos, f.base_pos, f.base_quat),
