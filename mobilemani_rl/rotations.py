@@ -116,15 +116,12 @@ def axis_angle_from_quat(q: Array) -> Array:
 
 def quat_between_vectors(a: Array, b: Array) -> Array:
     """Shortest-arc rotation taking direction a to direction b (antiparallel: 180° about an orthogonal axis)."""
-    a = a / vector_norm(a, keepdims=True)
-    b = b / vector_norm(b, keepdims=True)
+    a, b = np.broadcast_arrays(a / vector_norm(a, keepdims=True), b / vector_norm(b, keepdims=True))
     dot = np.sum(a * b, axis=-1, keepdims=True)
-    axis = cross(a, b)
-    # For antiparallel vectors pick any axis orthogonal to a.
-    helper = np.where(np.abs(a[..., :1]) < 0.9, np.array([1.0, 0.0, 0.0]), np.array([0.0, 1.0, 0.0]))
-    fallback = cross(a, helper)
-    fallback = fallback / vector_norm(fallback, keepdims=True)
-    antiparallel = dot < -1.0 + 1e-6
-    q = np.where(antiparallel, np.concatenate((np.zeros_like(dot), fallback), axis=-1),
-                 np.concatenate((1.0 + dot, axis), axis=-1))
+    q = np.concatenate((1.0 + dot, cross(a, b)), axis=-1)
+    antiparallel = dot[..., 0] < -1.0 + 1e-6
+    if antiparallel.any():  # rare: any axis orthogonal to a will do
+        a_anti = a[antiparallel]
+        helper = np.where(np.abs(a_anti[:, :1]) < 0.9, np.array([1.0, 0.0, 0.0]), np.array([0.0, 1.0, 0.0]))
+        q[antiparallel] = np.concatenate((np.zeros((len(a_anti), 1)), cross(a_anti, helper)), axis=-1)
     return q / vector_norm(q, keepdims=True)

@@ -35,4 +35,4 @@ def dls_step(jacobian: np.ndarray, error: np.ndarray, damping: float) -> np.ndar
     """Δq = Jᵀ (J Jᵀ + λ² I)⁻¹ e for a batch: jacobian (n, 6, k), error (n, 6) -> (n, k)."""
     jjt = jacobian @ np.swapaxes(jacobian, 1, 2)
     jjt += (damping**2) * np.eye(jacobian.shape[1])
-    return np.einsum("nij,ni->nj", jacobian, np.linalg.solve(jjt, error[..., None])[..., 0])
+    return (np.linalg.solve(jjt, error[..., None]).swapaxes(1, 2) @ jacobian)[:, 0]

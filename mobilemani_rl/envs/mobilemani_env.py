@@ -138,7 +138,8 @@ class MobileManiEnv:
     def apply_action(self, actions: np.ndarray) -> np.ndarray:
         """Clamp, run one DLS IK step, and write joint targets; returns the applied action."""
         idx, v, acfg = self.index, self.view, self.cfg.actions
-        actions = np.clip(np.nan_to_num(np.asarray(actions, dtype=np.float64), nan=0.0), -1.0, 1.0)
+        actions = np.clip(np.asarray(actions, dtype=np.float64), -1.0, 1.0)
+        actions[np.isnan(actions)] = 0.0
         jacobian = chain_jacobian(self.frames.hand_pos, v.xanchor[:, idx.ik_joint], v.xaxis[:, idx.ik_joint],
                                   idx.ik_is_hinge)
         error = wrist_pose_error(actions, acfg.pos_scale, acfg.rot_scale)
@@ -157,7 +158,7 @@ class MobileManiEnv:
         self.episode_length_buf += 1
         self.env_times += 1
         self.last_action = actions
-        frames = self.frames = read_frames(self.view, self.index, self.all_ids)
+        frames = self.frames = read_frames(self.view, self.index)
         scfg = self.cfg.success
         dist = self.task_distances = TaskDistances.measure(frames, self.goal_pos)
         # Truncation reads the success counter before this step's success is added (reference §5c).
@@ -175,7 +176,8 @@ class MobileManiEnv:
                             self.palm_rot_target if self.use_palm_rotation else None)
         terms = reward_terms(frames, actions, ctx, dist, grasped, scfg)
         reward, weighted = total_reward(terms, self.cfg.rewards, self.cfg.reward_clip)
-        log: dict[str, float | np.ndarray] = {f"/reward/{k}": float(val.mean()) for k, val in weighted.items()}
+        means = np.mean(list(weighted.values()), axis=1)  # one reduction for all terms
+        log: dict[str, float | np.ndarray] = {f"/reward/{k}": float(m) for k, m in zip(weighted, means, strict=True)}
         log["/task/grasp"] = float(grasped.mean())
         log["/task/success"] = float(success.mean())
         # Episode statistics over episodes that ended by truncation, as the reference's training log.

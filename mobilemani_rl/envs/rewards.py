@@ -10,7 +10,6 @@ from mobilemani_rl.envs.config import RewardWeights, SuccessCfg
 from mobilemani_rl.envs.frames import EnvRows, Frames
 from mobilemani_rl.rotations import (
     euler_from_quat,
-    quat_apply,
     quat_between_vectors,
     quat_conj,
     quat_mul,
@@ -18,7 +17,6 @@ from mobilemani_rl.rotations import (
 )
 
 GRASP_DIRECTION = np.array([0.0, 1.0, 0.0])  # articulated and YCB tasks alike (reference §5a)
-PALM_AXIS = np.array([0.0, 0.0, 1.0])  # palm direction = the hand body's local +z
 
 
 @dataclass
@@ -44,13 +42,12 @@ class TaskDistances(EnvRows):
 
     @classmethod
     def measure(cls, frames: Frames, goal_pos: np.ndarray) -> TaskDistances:
-        grasp = frames.grasp_pos
-        return cls(
-            hand=vector_norm(frames.palm_pos - grasp),
-            finger=vector_norm(frames.finger_pos - grasp[:, None]),
-            body=vector_norm(frames.body_pos - grasp[:, None]),
-            goal=vector_norm(goal_pos - grasp),
-        )
+        points = np.concatenate((frames.palm_pos[:, None], frames.finger_pos, frames.body_pos, goal_pos[:, None]),
+                                axis=1)
+        distance = vector_norm(points - frames.grasp_pos[:, None])  # one norm for all points
+        num_fingers = frames.finger_pos.shape[1]
+        return cls(hand=distance[:, 0], finger=distance[:, 1:1 + num_fingers], body=distance[:, 1 + num_fingers:-1],
+                   goal=distance[:, -1])
 
 
 def grasp_flag(d: TaskDistances, cfg: SuccessCfg) -> np.ndarray:
@@ -58,11 +55,14 @@ def grasp_flag(d: TaskDistances, cfg: SuccessCfg) -> np.ndarray:
 
 
 def palm_direction(palm_quat: np.ndarray) -> np.ndarray:
-    return quat_apply(palm_quat, np.broadcast_to(PALM_AXIS, palm_quat.shape[:-1] + (3,)))
+    """The palm direction, the hand body's local +z in the world: the third column of its rotation matrix."""
+    w, x, y, z = palm_quat[..., 0], palm_quat[..., 1], palm_quat[..., 2], palm_quat[..., 3]
+    return np.stack((2.0 * (x * z + w * y), 2.0 * (y * z - w * x), 1.0 - 2.0 * (x * x + y * y)), axis=-1)
 
 
 def rotation_to(palm_quat: np.ndarray, target_dir: np.ndarray) -> np.ndarray:
-    """Clipped RPY of the shortest-arc rotation taking the palm direction onto target_dir."""
+    """Clipped RPY of the shortest-arc rotation taking the palm direction onto target_dir (which may carry
+    extra leading axes: the palm direction broadcasts)."""
     return np.clip(euler_from_quat(quat_between_vectors(palm_direction(palm_quat), target_dir)), -1.0, 1.0)
 
 
@@ -83,20 +83,25 @@ def reward_terms(frames: Frames, actions: np.ndarray, ctx: RewardContext, d: Tas
     holding = grasped.astype(np.float64)
     n = actions.shape[0]
     pos_target = np.clip(frames.grasp_pos - frames.palm_pos, -1.0, 1.0)
-    rot_target = rotation_to(frames.palm_quat, np.broadcast_to(GRASP_DIRECTION, (n, 3)))
     hand_target = np.clip(ctx.default_hand_action, -1.0, 1.0)
     to_goal = ctx.goal_pos - frames.grasp_pos
     move_pos_target = np.clip(to_goal / ctx.goal_scale[:, None], -1.0, 1.0)
     away_from_motion = -to_goal / np.maximum(vector_norm(to_goal, keepdims=True), 1e-9)
-    move_rot_target = rotation_to(frames.palm_quat, away_from_motion)
+    # Reach (onto the grasp direction) and move (away from the motion) rotation targets in one batched call.
+    rot_target, move_rot_target = rotation_to(frames.palm_quat,
+                                              np.stack((np.broadcast_to(GRASP_DIRECTION, (n, 3)), away_from_motion)))
     if ctx.palm_rot_target is None:
         palm_rot = np.zeros(n)
     else:
         pitch = np.clip(euler_from_quat(quat_mul(ctx.palm_rot_target, quat_conj(frames.palm_quat)))[:, 1], -1, 1)
         palm_rot = np.abs(pitch - actions[:, 4]) * reaching
+    # The four wrist-action gaps, (reach, move) x (position, rotation), in one norm.
+    wrist = actions[:, :6].reshape(n, 1, 2, 3)
+    targets = np.stack((pos_target, rot_target, move_pos_target, move_rot_target), axis=1).reshape(n, 2, 2, 3)
+    (reach_pos, reach_rot), (move_pos, move_rot) = np.moveaxis(vector_norm(targets - wrist), 0, -1)
     return {
-        "diff_reach_pos_action": vector_norm(pos_target - actions[:, 0:3]) * reaching,
-        "diff_reach_rot_action": vector_norm(rot_target - actions[:, 3:6]) * reaching,
+        "diff_reach_pos_action": reach_pos * reaching,
+        "diff_reach_rot_action": reach_rot * reaching,
         "diff_reach_joint_action": vector_norm(hand_target - actions[:, 6:]) * reaching,
         "diff_reach_palm_rot_action": palm_rot,
         "diff_hand_object": d.hand,
@@ -105,8 +110,8 @@ def reward_terms(frames: Frames, actions: np.ndarray, ctx: RewardContext, d: Tas
         "diff_hand_finger_object": d.fingers,
         "diff_object_goal": d.goal / ctx.goal_scale,
         "bonus_grasp_object": holding,
-        "diff_move_pos_action": vector_norm(move_pos_target - actions[:, 0:3]) * holding,
-        "diff_move_rot_action": vector_norm(move_rot_target - actions[:, 3:6]) * holding,
+        "diff_move_pos_action": move_pos * holding,
+        "diff_move_rot_action": move_rot * holding,
         # Hard-coded 0.05 m in the reference, equal to the success threshold.
         "bonus_object_goal": (d.goal < success_cfg.threshold) * holding,
     }
@@ -115,6 +120,8 @@ def reward_terms(frames: Frames, actions: np.ndarray, ctx: RewardContext, d: Tas
 def total_reward(terms: dict[str, np.ndarray], weights: RewardWeights, clip: float,
                  ) -> tuple[np.ndarray, dict[str, np.ndarray]]:
     """Σ w·r, NaN→0, clipped; also the weighted terms by name."""
-    weighted = {f.name: getattr(weights, f.name) * terms[f.name] for f in fields(weights)}
-    total = np.nan_to_num(sum(weighted.values()), nan=0.0)
-    return np.clip(total, -clip, clip), weighted
+    names = [f.name for f in fields(weights)]
+    weighted = np.stack([terms[name] for name in names]) * np.array([getattr(weights, name) for name in names])[:, None]
+    total = np.clip(weighted.sum(axis=0), -clip, clip)
+    total[np.isnan(total)] = 0.0
+    return total, dict(zip(names, weighted, strict=True))
