@@ -30,6 +30,8 @@ class PpoCfg:
     critic_hidden_dims: list[int] = field(default_factory=lambda: [1024, 1024, 512, 512])
     activation: str = "elu"
     init_noise_std: float = 1.0
+    # Bounds on the action noise std (rsl-rl clamps it): keeps an entropy bonus from growing it without limit.
+    noise_std_range: tuple[float, float] = (1e-6, 1e6)  # reference: unbounded
     obs_normalization: bool = True  # reference: empirical_normalization
     init_at_random_ep_len: bool = True
     seed: int = 42
@@ -44,7 +46,7 @@ def rsl_rl_train_cfg(ppo: PpoCfg, logger: dict | str, run_name: str) -> dict:
                "obs_normalization": ppo.obs_normalization}
         if distribution:
             cfg["distribution_cfg"] = {"class_name": "GaussianDistribution", "init_std": ppo.init_noise_std,
-                                       "std_type": "scalar"}
+                                       "std_range": tuple(ppo.noise_std_range), "std_type": "scalar"}
         return cfg
 
     return {
