@@ -115,13 +115,17 @@ def axis_angle_from_quat(q: Array) -> Array:
 
 
 def quat_between_vectors(a: Array, b: Array) -> Array:
-    """Shortest-arc rotation taking direction a to direction b (antiparallel: 180° about an orthogonal axis)."""
-    a, b = np.broadcast_arrays(a / vector_norm(a, keepdims=True), b / vector_norm(b, keepdims=True))
-    dot = np.sum(a * b, axis=-1, keepdims=True)
-    q = np.concatenate((1.0 + dot, cross(a, b)), axis=-1)
-    antiparallel = dot[..., 0] < -1.0 + 1e-6
+    """Shortest-arc rotation taking direction a to direction b (antiparallel: 180° about an orthogonal axis).
+
+    q = (|a||b| + a·b, a × b), normalised: no need to normalise a and b first.
+    """
+    a, b = np.broadcast_arrays(a, b)
+    scale = np.sqrt(np.sum(a * a, axis=-1, keepdims=True) * np.sum(b * b, axis=-1, keepdims=True))
+    q = np.concatenate((scale + np.sum(a * b, axis=-1, keepdims=True), cross(a, b)), axis=-1)
+    antiparallel = q[..., 0] < 1e-6 * scale[..., 0]
     if antiparallel.any():  # rare: any axis orthogonal to a will do
         a_anti = a[antiparallel]
-        helper = np.where(np.abs(a_anti[:, :1]) < 0.9, np.array([1.0, 0.0, 0.0]), np.array([0.0, 1.0, 0.0]))
+        helper = np.where(np.abs(a_anti[:, :1]) < 0.9 * vector_norm(a_anti, keepdims=True),
+                          np.array([1.0, 0.0, 0.0]), np.array([0.0, 1.0, 0.0]))
         q[antiparallel] = np.concatenate((np.zeros((len(a_anti), 1)), cross(a_anti, helper)), axis=-1)
     return q / vector_norm(q, keepdims=True)
