@@ -22,9 +22,18 @@ from mobilemani_rl.assets.objects import ObjectKind
 from mobilemani_rl.envs.mobilemani_env import PALM_ROTATION_TASKS, MobileManiEnv
 from mobilemani_rl.envs.observations import normalize_to_limits
 from mobilemani_rl.envs.rewards import GRASP_DIRECTION, palm_direction, rotation_to
-from mobilemani_rl.rotations import cross, euler_from_quat, quat_apply, quat_conj, quat_mul
+from mobilemani_rl.rotations import (
+    cross,
+    euler_from_quat,
+    quat_apply,
+    quat_between_vectors,
+    quat_conj,
+    quat_mul,
+)
 
 APPROACH, CLOSE, MOVE = 0, 1, 2
+PULLING_SKILLS = {"open", "pull", "pick"}
+VERTICAL_BAR_CATEGORIES = {"refrigerator"}  # the generators' only vertical handles
 DOWN = np.array([0.0, 0.0, -1.0])
 
 
@@ -45,6 +54,10 @@ class ScriptedPolicyCfg:
     approach_from_below: bool = True  # else a grip facing down (under a dropped door) is approached horizontally
     move_follow: float = 1.0  # weight of keeping the palm on the grip's free side while moving
     move_rotation: float = 0.0  # weight of the reward's palm-rotation target while moving (it fights the grasp)
+    move_ramp_steps: int = 40  # steps over which a pull speeds up to full: a jerk on a resting link tears the grip off
+    regrasp_distance: float = 0.06  # m between palm and grip that counts as a lost grip while pulling: approach again
+    hold_gain: float = 1.0  # weight of keeping the palm where it closed on the link while pulling
+    arc_lead: float = 0.1  # m of arc ahead of a hinged grip that the hand moves toward (0: straight at the goal)
 
 
 # The five-finger hand stops with the handle a little deeper, nearer its palm face, so that the curled fingers
@@ -70,7 +83,7 @@ class ScriptedPolicy:
         self.phase = np.zeros(n, dtype=np.int64)
         self.phase_steps = np.zeros(n, dtype=np.int64)
         self.pregrasp_done = np.zeros(n, dtype=bool)
-        self.palm_rotation = (env.object.category, env.skill) in PALM_ROTATION_TASKS
+        self.hold_offset = np.zeros((n, 3))  # palm relative to the grip when the hand closed, in the link frame
         grasp = np.array([env.robot.grasp_hand_qpos[j] for j in env.robot.hand_joints])
         self.hand_closed = normalize_to_limits(grasp, env.index.hand_limits)
         idx = env.index
@@ -79,6 +92,13 @@ class ScriptedPolicy:
         # table with the palm turned forward, and a lifting grasp holds best under the palm.
         self.from_above = env.object.kind is ObjectKind.RIGID
         self.pregrasp_offset = self.cfg.pick_pregrasp_offset if self.from_above else self.cfg.pregrasp_offset
+        # The reward's palm rotation (+90° about world y) turns the fingers across a vertical bar, so it serves
+        # every task on one, not only the rewarded ones.
+        self.palm_rotation = not self.from_above and (
+            (env.object.category, env.skill) in PALM_ROTATION_TASKS or env.object.category in VERTICAL_BAR_CATEGORIES)
+        # Only a held link follows a pull, so a pulling hand keeps its hold or grasps again; a hand that slipped
+        # off a closing link still pushes it along.
+        self.pulls = env.skill in PULLING_SKILLS
         self.joint_id = int(np.flatnonzero(env.model.jnt_qposadr == idx.object_joint_qpos)[0]) \
             if idx.object_joint_qpos >= 0 else -1
         self.joint_is_hinge = self.joint_id >= 0 and \
@@ -100,19 +120,30 @@ class ScriptedPolicy:
         norm = np.linalg.norm(direction, axis=1, keepdims=True)
         return np.where(norm > 0.3, direction / np.maximum(norm, 1e-9), GRASP_DIRECTION)
 
+    def face_rotation(self, approach: np.ndarray) -> np.ndarray:
+        """(n, 3) RPY turning the palm onto the approach direction. With the palm rotation, the target is the
+        reward's (the reset palm orientation rolled +90° about world y) turned the shortest way onto the approach,
+        so that its roll stays about the approach direction when an open door turned the grip aside."""
+        env, palm_quat = self.env, self.env.frames.palm_quat
+        if not self.palm_rotation:
+            return rotation_to(palm_quat, approach)
+        target = quat_mul(quat_between_vectors(palm_direction(env.palm_rot_target), approach), env.palm_rot_target)
+        return np.clip(euler_from_quat(quat_mul(target, quat_conj(palm_quat))), -1.0, 1.0)
+
     def __call__(self) -> np.ndarray:
         env, cfg, f = self.env, self.cfg, self.env.frames
         restarted = env.env_times == 0
-        self.phase[restarted] = APPROACH
-        self.phase_steps[restarted] = 0
-        self.pregrasp_done[restarted] = False
+        lost = (self.phase == MOVE) & self.pulls & (
+            np.linalg.norm(f.grasp_pos - f.palm_pos, axis=1) > cfg.regrasp_distance)
+        self._advance(restarted | lost, APPROACH)
+        self.pregrasp_done[restarted | lost] = False
 
         n = env.num_envs
         actions = np.zeros((n, env.num_actions))
         hand_open = np.clip(env.default_hand_action, -1.0, 1.0)
         actions[:, 6:] = hand_open
         approach = self.approach_direction()
-        face_grip = rotation_to(f.palm_quat, approach)
+        face_grip = self.face_rotation(approach)
 
         # Approach: pre-grasp point first, then straight in along the approach direction.
         pregrasp = f.grasp_pos - self.pregrasp_offset * approach
@@ -124,11 +155,10 @@ class ScriptedPolicy:
         target = np.where(self.pregrasp_done[:, None], grasp_target, pregrasp)
         actions[:, 0:3] = np.clip(cfg.pos_gain * (target - f.palm_pos), -1.0, 1.0)
         actions[:, 3:6] = np.clip(cfg.rot_gain * face_grip, -1.0, 1.0)
-        if self.palm_rotation and not self.from_above:
-            pitch = euler_from_quat(quat_mul(env.palm_rot_target, quat_conj(f.palm_quat)))[:, 1]
-            actions[:, 4] = np.clip(cfg.rot_gain * pitch, -1.0, 1.0)
         gap = np.linalg.norm(grasp_target - f.palm_pos, axis=1)
-        blocked = (gap < cfg.blocked_radius) & (np.linalg.norm(f.palm_linvel, axis=1) < cfg.blocked_speed)
+        # Blocked: no longer closing in on the grip, also where the palm pushes a free link ahead of it.
+        blocked = (gap < cfg.blocked_radius) & (
+            np.linalg.norm(f.palm_linvel - f.grasp_linvel, axis=1) < cfg.blocked_speed)
         reached = self.pregrasp_done & ((gap < cfg.grasp_tolerance) | blocked)
         self._advance(reached & (self.phase == APPROACH), CLOSE)
 
@@ -136,17 +166,44 @@ class ScriptedPolicy:
         actions[holding, 6:] = self.hand_closed
         closing = self.phase == CLOSE
         actions[closing, 0:6] = 0.0
-        self._advance(closing & (self.phase_steps >= cfg.close_steps), MOVE)
+        closed = closing & (self.phase_steps >= cfg.close_steps)
+        self.hold_offset[closed] = quat_apply(quat_conj(f.grasp_quat[closed]), (f.palm_pos - f.grasp_pos)[closed])
+        self._advance(closed, MOVE)
 
         moving = self.phase == MOVE
         to_goal = env.goal_pos - f.grasp_pos
-        move = np.clip(cfg.pos_gain * to_goal, -1.0, 1.0)
+        move = self.move_action()
+        if self.pulls:
+            speed = np.minimum(1.0, (self.phase_steps[:, None] + 1) / cfg.move_ramp_steps)
+            move = np.clip(move, -speed, speed)
+            # Keep the palm where it closed on the link: a slip along the handle is pulled back instead of growing.
+            slip = f.grasp_pos + quat_apply(f.grasp_quat, self.hold_offset) - f.palm_pos
+            move += cfg.hold_gain * cfg.pos_gain * slip
         away = -to_goal / np.maximum(np.linalg.norm(to_goal, axis=1, keepdims=True), 1e-9)
         turn = cfg.move_rotation * rotation_to(f.palm_quat, away) + cfg.move_follow * face_grip
-        actions[moving, 0:3] = move[moving]
+        actions[moving, 0:3] = np.clip(move[moving], -1.0, 1.0)
         actions[moving, 3:6] = np.clip(cfg.rot_gain * turn[moving], -1.0, 1.0)
         self.phase_steps += 1
         return actions
+
+    def move_action(self) -> np.ndarray:
+        """(n, 3) position action moving the grip toward the goal. A hinged grip moves along its circle (the goal
+        lies on it: both are the same point of the link), toward a point `arc_lead` ahead, by the arc length left:
+        pulling along the chord would drag the grip out of the hand."""
+        env, f, cfg = self.env, self.env.frames, self.cfg
+        to_goal = env.goal_pos - f.grasp_pos
+        if not (self.joint_is_hinge and cfg.arc_lead > 0.0):
+            return cfg.pos_gain * to_goal
+        anchor, axis = env.view.xanchor[:, self.joint_id], env.view.xaxis[:, self.joint_id]
+        radial = f.grasp_pos - anchor
+        across, across_goal = (p - axis * np.sum(axis * p, axis=1, keepdims=True)
+                               for p in (radial, env.goal_pos - anchor))
+        angle = np.arctan2(np.sum(axis * cross(across, across_goal), axis=1), np.sum(across * across_goal, axis=1))
+        radius = np.maximum(np.linalg.norm(across, axis=1), 1e-3)
+        lead = cfg.arc_lead / radius
+        ahead = rotate_about(radial, axis, np.clip(angle, -lead, lead)) - radial
+        unit = ahead / np.maximum(np.linalg.norm(ahead, axis=1, keepdims=True), 1e-9)
+        return unit * (cfg.pos_gain * np.abs(angle) * radius)[:, None]
 
     def _advance(self, mask: np.ndarray, phase: int) -> None:
         self.phase[mask] = phase
