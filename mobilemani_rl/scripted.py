@@ -33,8 +33,10 @@ from mobilemani_rl.rotations import (
 
 APPROACH, CLOSE, MOVE = 0, 1, 2
 PULLING_SKILLS = {"open", "pull", "pick"}
+LID_CATEGORIES = {"box", "laptop", "toilet", "trashcan"}  # gripped at a lid's free edge
 VERTICAL_BAR_CATEGORIES = {"refrigerator"}  # the generators' only vertical handles
 DOWN = np.array([0.0, 0.0, -1.0])
+HAND_X = np.array([1.0, 0.0, 0.0])
 
 
 @dataclass
@@ -46,6 +48,8 @@ class ScriptedPolicyCfg:
     pregrasp_tolerance: float = 0.015
     pregrasp_alignment: float = 0.985  # cosine between palm and approach directions needed to go in (~10°)
     grasp_depth: float = 0.0  # m past the grasp point (along the approach direction) where the palm point stops
+    grip_shift: float = 0.0  # m along the hand's +x where the palm point stops, away from a handle or object
+    lid_grip_shift: float = 0.0  # the same at a lid's edge
     grasp_tolerance: float = 0.012
     blocked_radius: float = 0.05  # the palm stopped this close to the grasp point (touching the object): close
     blocked_speed: float = 0.01  # m/s
@@ -66,7 +70,7 @@ class ScriptedPolicyCfg:
 # Turning the gripper up under a dropped oven door throws the G1 arm into the door, while its fingers pinch the
 # hanging handle from the front as well; the hand's wrist would hit the door from the front.
 ROBOT_CFG = {"g1": ScriptedPolicyCfg(move_follow=0.0, approach_from_below=False),
-             "xhand": ScriptedPolicyCfg(grasp_depth=0.012, close_steps=15)}
+             "xhand": ScriptedPolicyCfg(grasp_depth=0.012, close_steps=15, grip_shift=0.02, lid_grip_shift=-0.02)}
 
 
 def rotate_about(v: np.ndarray, axis: np.ndarray, angle: np.ndarray) -> np.ndarray:
@@ -92,6 +96,7 @@ class ScriptedPolicy:
         # table with the palm turned forward, and a lifting grasp holds best under the palm.
         self.from_above = env.object.kind is ObjectKind.RIGID
         self.pregrasp_offset = self.cfg.pick_pregrasp_offset if self.from_above else self.cfg.pregrasp_offset
+        self.grip_shift = self.cfg.lid_grip_shift if env.object.category in LID_CATEGORIES else self.cfg.grip_shift
         # The reward's palm rotation (+90° about world y) turns the fingers across a vertical bar, so it serves
         # every task on one, not only the rewarded ones.
         self.palm_rotation = not self.from_above and (
@@ -151,7 +156,7 @@ class ScriptedPolicy:
         # Going in with the palm still turning would land a finger on a lid edge or a handle.
         aligned = np.sum(palm_direction(f.palm_quat) * approach, axis=1) > cfg.pregrasp_alignment
         self.pregrasp_done |= near_pregrasp & aligned & (self.phase == APPROACH)
-        grasp_target = f.grasp_pos + cfg.grasp_depth * approach
+        grasp_target = f.grasp_pos + cfg.grasp_depth * approach + self.grip_shift * quat_apply(f.palm_quat, HAND_X)
         target = np.where(self.pregrasp_done[:, None], grasp_target, pregrasp)
         actions[:, 0:3] = np.clip(cfg.pos_gain * (target - f.palm_pos), -1.0, 1.0)
         actions[:, 3:6] = np.clip(cfg.rot_gain * face_grip, -1.0, 1.0)
