@@ -93,7 +93,8 @@ class ScriptedPolicy:
         idx = env.index
         self.follow = self.cfg.follow_handle and env.object.kind is ObjectKind.ARTICULATED
         # Rigid objects are picked from above: the arm cannot reach the centre of mass of an object low on the
-        # table with the palm turned forward, and a lifting grasp holds best under the palm.
+        # table with the palm turned forward, and a lifting grasp holds best under the palm (both robots pick the
+        # sampled catalog objects better so than along the reward's grasp direction).
         self.from_above = env.object.kind is ObjectKind.RIGID
         self.pregrasp_offset = self.cfg.pick_pregrasp_offset if self.from_above else self.cfg.pregrasp_offset
         self.grip_shift = self.cfg.lid_grip_shift if env.object.category in LID_CATEGORIES else self.cfg.grip_shift
