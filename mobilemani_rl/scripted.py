@@ -56,6 +56,7 @@ class ScriptedPolicyCfg:
     close_steps: int = 8
     follow_handle: bool = True  # approach from the grip's free side (else along the grasp direction)
     approach_from_below: bool = True  # else a grip facing down (under a dropped door) is approached horizontally
+    push_lids_shut: bool = False  # close a lid by pushing it with the open hand instead of grasping its edge
     move_follow: float = 1.0  # weight of keeping the palm on the grip's free side while moving
     move_rotation: float = 0.0  # weight of the reward's palm-rotation target while moving (it fights the grasp)
     move_ramp_steps: int = 40  # steps over which a pull speeds up to full: a jerk on a resting link tears the grip off
@@ -64,13 +65,17 @@ class ScriptedPolicyCfg:
     arc_lead: float = 0.1  # m of arc ahead of a hinged grip that the hand moves toward (0: straight at the goal)
 
 
-# The five-finger hand stops with the handle a little deeper, nearer its palm face, so that the curled fingers
-# pass behind the handle, and its weak finger servos need longer to close than the parallel gripper. The
+# The five-finger hand stops with the handle a little deeper, nearer its palm face, and 2 cm toward its wrist, so
+# that the curled fingers pass behind the handle (their sweep clears a 3 cm cart bar) and close an object against
+# the thumb; a lid's edge it takes 2 cm toward its fingers instead, deeper in the finger cage. Its weak finger
+# servos need longer to close than the parallel gripper, and its closing fingers knock a light lid out of the
+# hand, so it pushes lids shut with the hand open. The
 # gripper's pads let a turning handle rotate between them, while turning the wrist with it makes them slip.
 # Turning the gripper up under a dropped oven door throws the G1 arm into the door, while its fingers pinch the
 # hanging handle from the front as well; the hand's wrist would hit the door from the front.
 ROBOT_CFG = {"g1": ScriptedPolicyCfg(move_follow=0.0, approach_from_below=False),
-             "xhand": ScriptedPolicyCfg(grasp_depth=0.012, close_steps=15, grip_shift=0.02, lid_grip_shift=-0.02)}
+             "xhand": ScriptedPolicyCfg(grasp_depth=0.012, close_steps=15, grip_shift=0.02, lid_grip_shift=-0.02,
+                                        push_lids_shut=True)}
 
 
 def rotate_about(v: np.ndarray, axis: np.ndarray, angle: np.ndarray) -> np.ndarray:
@@ -90,6 +95,8 @@ class ScriptedPolicy:
         self.hold_offset = np.zeros((n, 3))  # palm relative to the grip when the hand closed, in the link frame
         grasp = np.array([env.robot.grasp_hand_qpos[j] for j in env.robot.hand_joints])
         self.hand_closed = normalize_to_limits(grasp, env.index.hand_limits)
+        if self.cfg.push_lids_shut and env.object.category in LID_CATEGORIES and env.skill == "close":
+            self.hand_closed = np.clip(env.default_hand_action, -1.0, 1.0)
         idx = env.index
         self.follow = self.cfg.follow_handle and env.object.kind is ObjectKind.ARTICULATED
         # Rigid objects are picked from above: the arm cannot reach the centre of mass of an object low on the

@@ -17,13 +17,11 @@ from mobilemani_rl.assets.objects import CATEGORIES, get_object
 sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "scripts"))
 from scripted_success_table import PASS_RATE, episode_success, sample_objects  # noqa: E402
 
-XHAND_LID = ("the hand turned onto a steep lid's edge puts its wrist past the lid, and a thin laptop lip gives the "
-             "curled fingers nothing to hook from the front")
-XHAND_PICK = "the finger cage curls only 2.5 cm from the palm point: larger objects are pushed away, not wrapped"
-KNOWN_GAPS = {
-    ("xhand", "box", "close"): XHAND_LID, ("xhand", "laptop", "open"): XHAND_LID,
-    ("xhand", "holistic", "pick"): XHAND_PICK,
-}
+XHAND_LAPTOP = ("the hand's fingers hang 9 cm below its palm point and meet the surface the laptop stands on, so the "
+                "palm stops about 5 cm short of a lip only 2.5-4 cm above it")
+XHAND_PICK = ("the thumb closes beside the index, not opposite the fingers: an object wider than the ~4 cm gap between "
+              "the curled fingers and the thumb is pressed at its far top edge and tips out of the hand")
+KNOWN_GAPS = {("xhand", "laptop", "open"): XHAND_LAPTOP, ("xhand", "holistic", "pick"): XHAND_PICK}
 CASES = [(robot, category, skill) for robot in ("g1", "xhand") for category in CATEGORIES
          for skill in get_object(sample_objects(category, 1)[0]).skills]
 
