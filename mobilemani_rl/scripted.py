@@ -9,6 +9,10 @@ comes from the handle's free side instead: every generated grip (bar, knob, leve
 lever) faces -y of the object frame with its joint at 0, so its free side now is that direction turned by the
 joint. For closed objects that is the grasp direction; for a lid standing 40-80° open it is
 the lid's plane, where the fingers can straddle its edge.
+
+A hinged link is moved along its circle rather than straight at the goal. A pull (open, pull, pick) needs the
+grip: it speeds up gradually, keeps the palm where it closed on the link, and grasps again once the grip is lost;
+a close or push goes on pushing with a hand that slipped off.
 """
 
 from __future__ import annotations
@@ -48,7 +52,7 @@ class ScriptedPolicyCfg:
     pregrasp_tolerance: float = 0.015
     pregrasp_alignment: float = 0.985  # cosine between palm and approach directions needed to go in (~10°)
     grasp_depth: float = 0.0  # m past the grasp point (along the approach direction) where the palm point stops
-    grip_shift: float = 0.0  # m along the hand's +x where the palm point stops, away from a handle or object
+    grip_shift: float = 0.0  # m along the hand frame's +x (the XHand's wrist side) where the palm point stops
     lid_grip_shift: float = 0.0  # the same at a lid's edge
     grasp_tolerance: float = 0.012
     blocked_radius: float = 0.05  # the palm stopped this close to the grasp point (touching the object): close
@@ -66,11 +70,10 @@ class ScriptedPolicyCfg:
 
 
 # The five-finger hand stops with the handle a little deeper, nearer its palm face, and 2 cm toward its wrist, so
-# that the curled fingers pass behind the handle (their sweep clears a 3 cm cart bar) and close an object against
-# the thumb; a lid's edge it takes 2 cm toward its fingers instead, deeper in the finger cage. Its weak finger
-# servos need longer to close than the parallel gripper, and its closing fingers knock a light lid out of the
-# hand, so it pushes lids shut with the hand open. The
-# gripper's pads let a turning handle rotate between them, while turning the wrist with it makes them slip.
+# that the curled fingers pass behind the handle (their sweep then clears a 3 cm cart bar); a lid's edge it takes
+# 2 cm toward its fingertips instead. Its weak finger servos need longer to close than the parallel gripper, and
+# its closing fingers knock a light lid out of the hand, so it pushes lids shut with the hand open.
+# The gripper's pads let a turning handle rotate between them, while turning the wrist with it makes them slip.
 # Turning the gripper up under a dropped oven door throws the G1 arm into the door, while its fingers pinch the
 # hanging handle from the front as well; the hand's wrist would hit the door from the front.
 ROBOT_CFG = {"g1": ScriptedPolicyCfg(move_follow=0.0, approach_from_below=False),
@@ -101,7 +104,7 @@ class ScriptedPolicy:
         self.follow = self.cfg.follow_handle and env.object.kind is ObjectKind.ARTICULATED
         # Rigid objects are picked from above: the arm cannot reach the centre of mass of an object low on the
         # table with the palm turned forward, and a lifting grasp holds best under the palm (both robots pick the
-        # sampled catalog objects better so than along the reward's grasp direction).
+        # sampled catalog objects more often so than along the reward's grasp direction).
         self.from_above = env.object.kind is ObjectKind.RIGID
         self.pregrasp_offset = self.cfg.pick_pregrasp_offset if self.from_above else self.cfg.pregrasp_offset
         self.grip_shift = self.cfg.lid_grip_shift if env.object.category in LID_CATEGORIES else self.cfg.grip_shift
