@@ -61,6 +61,7 @@ class ScriptedPolicyCfg:
     follow_handle: bool = True  # approach from the grip's free side (else along the grasp direction)
     approach_from_below: bool = True  # else a grip facing down (under a dropped door) is approached horizontally
     push_lids_shut: bool = False  # close a lid by pushing it with the open hand instead of grasping its edge
+    lifted_from_below: tuple[str, ...] = ()  # categories whose grip the hand lifts without holding: opened as a push
     move_follow: float = 1.0  # weight of keeping the palm on the grip's free side while moving
     move_rotation: float = 0.0  # weight of the reward's palm-rotation target while moving (it fights the grasp)
     move_ramp_steps: int = 40  # steps over which a pull speeds up to full: a jerk on a resting link tears the grip off
@@ -72,13 +73,15 @@ class ScriptedPolicyCfg:
 # The five-finger hand stops with the handle a little deeper, nearer its palm face, and 2 cm toward its wrist, so
 # that the curled fingers pass behind the handle (their sweep then clears a 3 cm cart bar); a lid's edge it takes
 # 2 cm toward its fingertips instead. Its weak finger servos need longer to close than the parallel gripper, and
-# its closing fingers knock a light lid out of the hand, so it pushes lids shut with the hand open.
+# its closing fingers knock a light lid out of the hand, so it pushes lids shut with the hand open. A laptop's
+# thin lip gives its fingers nothing to hook: they lift the screen from below, which holding the palm on the grip
+# point or grasping again would only interrupt.
 # The gripper's pads let a turning handle rotate between them, while turning the wrist with it makes them slip.
 # Turning the gripper up under a dropped oven door throws the G1 arm into the door, while its fingers pinch the
 # hanging handle from the front as well; the hand's wrist would hit the door from the front.
 ROBOT_CFG = {"g1": ScriptedPolicyCfg(move_follow=0.0, approach_from_below=False),
              "xhand": ScriptedPolicyCfg(grasp_depth=0.012, close_steps=15, grip_shift=0.02, lid_grip_shift=-0.02,
-                                        push_lids_shut=True)}
+                                        push_lids_shut=True, lifted_from_below=("laptop",))}
 
 
 def rotate_about(v: np.ndarray, axis: np.ndarray, angle: np.ndarray) -> np.ndarray:
@@ -114,7 +117,7 @@ class ScriptedPolicy:
             (env.object.category, env.skill) in PALM_ROTATION_TASKS or env.object.category in VERTICAL_BAR_CATEGORIES)
         # Only a held link follows a pull, so a pulling hand keeps its hold or grasps again; a hand that slipped
         # off a closing link still pushes it along.
-        self.pulls = env.skill in PULLING_SKILLS
+        self.pulls = env.skill in PULLING_SKILLS and env.object.category not in self.cfg.lifted_from_below
         self.joint_id = int(np.flatnonzero(env.model.jnt_qposadr == idx.object_joint_qpos)[0]) \
             if idx.object_joint_qpos >= 0 else -1
         self.joint_is_hinge = self.joint_id >= 0 and \
