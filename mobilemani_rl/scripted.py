@@ -32,6 +32,7 @@ from mobilemani_rl.rotations import (
     quat_apply,
     quat_between_vectors,
     quat_conj,
+    quat_from_matrix,
     quat_mul,
 )
 
@@ -49,6 +50,8 @@ class ScriptedPolicyCfg:
     rot_gain: float = 4.0
     pregrasp_offset: float = 0.08  # m in front of the grasp point along the approach direction
     pick_pregrasp_offset: float = 0.15  # above a rigid object's centre of mass: clears tall objects
+    pick_finger_yaw: float | None = None  # rad left of the robot's heading that a top-down pick's fingers point
+    pick_grip_shift: float = 0.0  # grip_shift of a top-down pick
     pregrasp_tolerance: float = 0.015
     pregrasp_alignment: float = 0.985  # cosine between palm and approach directions needed to go in (~10°)
     grasp_depth: float = 0.0  # m past the grasp point (along the approach direction) where the palm point stops
@@ -75,12 +78,16 @@ class ScriptedPolicyCfg:
 # 2 cm toward its fingertips instead. Its weak finger servos need longer to close than the parallel gripper, and
 # its closing fingers knock a light lid out of the hand, so it pushes lids shut with the hand open. A laptop's
 # thin lip gives its fingers nothing to hook: they lift the screen from below, which holding the palm on the grip
-# point or grasping again would only interrupt.
+# point or grasping again would only interrupt. It picks with the fingers turned about 50° left of its heading and
+# the object 4 cm toward the fingers: the shortest turn to palm-down points them straight ahead, where the closing
+# fingers knock a wide object forward out of reach (the turned hand picks the sampled objects ~0.7 of the time,
+# up from ~0.45; the thumb, which closes beside the index, still lets the fruit and the block slip).
 # The gripper's pads let a turning handle rotate between them, while turning the wrist with it makes them slip.
 # Turning the gripper up under a dropped oven door throws the G1 arm into the door, while its fingers pinch the
 # hanging handle from the front as well; the hand's wrist would hit the door from the front.
 ROBOT_CFG = {"g1": ScriptedPolicyCfg(move_follow=0.0, approach_from_below=False),
              "xhand": ScriptedPolicyCfg(grasp_depth=0.012, close_steps=15, grip_shift=0.02, lid_grip_shift=-0.02,
+                                        pick_finger_yaw=0.9, pick_grip_shift=0.043,
                                         push_lids_shut=True, lifted_from_below=("laptop",))}
 
 
@@ -110,7 +117,8 @@ class ScriptedPolicy:
         # sampled catalog objects more often so than along the reward's grasp direction).
         self.from_above = env.object.kind is ObjectKind.RIGID
         self.pregrasp_offset = self.cfg.pick_pregrasp_offset if self.from_above else self.cfg.pregrasp_offset
-        self.grip_shift = self.cfg.lid_grip_shift if env.object.category in LID_CATEGORIES else self.cfg.grip_shift
+        self.grip_shift = self.cfg.lid_grip_shift if env.object.category in LID_CATEGORIES else (
+            self.cfg.pick_grip_shift if self.from_above else self.cfg.grip_shift)
         # The reward's palm rotation (+90° about world y) turns the fingers across a vertical bar, so it serves
         # every task on one, not only the rewarded ones.
         self.palm_rotation = not self.from_above and (
@@ -144,10 +152,25 @@ class ScriptedPolicy:
         reward's (the reset palm orientation rolled +90° about world y) turned the shortest way onto the approach,
         so that its roll stays about the approach direction when an open door turned the grip aside."""
         env, palm_quat = self.env, self.env.frames.palm_quat
+        if self.from_above and self.cfg.pick_finger_yaw is not None:
+            return self.top_down_rotation()
         if not self.palm_rotation:
             return rotation_to(palm_quat, approach)
         target = quat_mul(quat_between_vectors(palm_direction(env.palm_rot_target), approach), env.palm_rot_target)
         return np.clip(euler_from_quat(quat_mul(target, quat_conj(palm_quat))), -1.0, 1.0)
+
+    def top_down_rotation(self) -> np.ndarray:
+        """(n, 3) RPY turning the palm down with the fingers (the hand frame's -x) `pick_finger_yaw` left of the
+        robot's heading (its base's +y)."""
+        f = self.env.frames
+        heading = quat_apply(f.base_quat, np.broadcast_to(np.array([0.0, 1.0, 0.0]), (self.env.num_envs, 3)))
+        fingers = rotate_about(heading, np.broadcast_to(-DOWN, heading.shape),
+                               np.full(len(heading), self.cfg.pick_finger_yaw))
+        fingers[:, 2] = 0.0
+        fingers /= np.maximum(np.linalg.norm(fingers, axis=1, keepdims=True), 1e-9)
+        down = np.broadcast_to(DOWN, fingers.shape)
+        target = quat_from_matrix(np.stack([-fingers, cross(down, -fingers), down], axis=-1))
+        return np.clip(euler_from_quat(quat_mul(target, quat_conj(f.palm_quat))), -1.0, 1.0)
 
     def __call__(self) -> np.ndarray:
         env, cfg, f = self.env, self.cfg, self.env.frames
