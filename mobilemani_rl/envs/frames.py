@@ -74,51 +74,52 @@ def _gather(field: np.ndarray, ids: np.ndarray | None, cols: np.ndarray | int) -
     return np.take(field if ids is None else field[ids], cols, axis=1)
 
 
-def _point_velocity(view: SimView, ids: np.ndarray | None, body: np.ndarray, point: np.ndarray,
-                    ) -> tuple[np.ndarray, np.ndarray]:
-    """Linear velocity of world points (n, P, 3) fixed to bodies (P,), and the bodies' angular velocity.
+class FrameReader:
+    """Reads `Frames` from a batch. The index arrays of every gather are derived once here, not per step."""
 
-    cvel holds [angular; linear] velocity about the subtree centre of mass of each body's root.
-    """
-    cvel = _gather(view.cvel, ids, body)
-    anchor = _gather(view.subtree_com, ids, view.body_rootid[body])
-    angular = cvel[..., :3]
-    return cvel[..., 3:] + cross(angular, point - anchor), angular
+    def __init__(self, view: SimView, index: SceneIndex) -> None:
+        self.view = view
+        # Palm, fingers and grasp point are read in one gather and split: fewer small numpy calls per step.
+        self.sites = np.concatenate(([index.palm_site], index.finger_sites, [index.grasp_site]))
+        self.site_bodies = view.site_bodyid[self.sites]
+        self.site_bodies[-1] = index.grasp_body
+        self.site_roots = view.body_rootid[self.site_bodies]
+        # Hand and base positions; hand, base and grasp-link orientations, then the fingers'.
+        self.link_pos_bodies = np.array([index.hand_body, index.base_body])
+        self.link_quat_bodies = np.concatenate(([index.hand_body, index.base_body, index.grasp_body],
+                                                self.site_bodies[1:-1]))
+        self.active_bodies = index.active_bodies
+        self.active_qpos = np.concatenate((index.ik_qpos, index.hand_qpos))
+        self.active_dof = np.concatenate((index.ik_dof, index.hand_dof))
 
-
-def read_frames(view: SimView, index: SceneIndex, ids: np.ndarray | None = None) -> Frames:
-    """Frames of the given envs, or of all envs when ids is None."""
-    site_body = view.site_bodyid
-    # Palm, fingers and grasp point in one gather, then split: fewer small numpy calls per step.
-    sites = np.concatenate(([index.palm_site], index.finger_sites, [index.grasp_site]))
-    bodies = site_body[sites]
-    bodies[-1] = index.grasp_body
-    points = _gather(view.site_xpos, ids, sites)
-    linvel, angvel = _point_velocity(view, ids, bodies, points)
-    # Hand, base and grasp-link poses, then the fingers' orientations, each in one gather.
-    link_pos = _gather(view.xpos, ids, np.array([index.hand_body, index.base_body]))
-    link_quat = _gather(view.xquat, ids, np.concatenate(([index.hand_body, index.base_body, index.grasp_body],
-                                                         bodies[1:-1])))
-    active_qpos = np.concatenate((index.ik_qpos, index.hand_qpos))
-    active_dof = np.concatenate((index.ik_dof, index.hand_dof))
-    return Frames(
-        palm_pos=points[:, 0],
-        palm_quat=link_quat[:, 0],
-        palm_linvel=linvel[:, 0],
-        palm_angvel=angvel[:, 0],
-        finger_pos=points[:, 1:-1],
-        finger_quat=link_quat[:, 3:],
-        finger_linvel=linvel[:, 1:-1],
-        finger_angvel=angvel[:, 1:-1],
-        body_pos=_gather(view.xpos, ids, index.active_bodies),
-        hand_pos=link_pos[:, 0],
-        hand_quat=link_quat[:, 0],
-        base_pos=link_pos[:, 1],
-        base_quat=link_quat[:, 1],
-        grasp_pos=points[:, -1],
-        grasp_quat=link_quat[:, 2],
-        grasp_linvel=linvel[:, -1],
-        joint_pos=_gather(view.qpos, ids, active_qpos),
-        joint_vel=_gather(view.qvel, ids, active_dof),
-        joint_acc=_gather(view.qacc, ids, active_dof),
-    )
+    def read(self, ids: np.ndarray | None = None) -> Frames:
+        """Frames of the given envs, or of all envs when ids is None."""
+        view = self.view
+        points = _gather(view.site_xpos, ids, self.sites)
+        # cvel holds [angular; linear] velocity about the subtree centre of mass of each body's root.
+        cvel = _gather(view.cvel, ids, self.site_bodies)
+        angvel = cvel[..., :3]
+        linvel = cvel[..., 3:] + cross(angvel, points - _gather(view.subtree_com, ids, self.site_roots))
+        link_pos = _gather(view.xpos, ids, self.link_pos_bodies)
+        link_quat = _gather(view.xquat, ids, self.link_quat_bodies)
+        return Frames(
+            palm_pos=points[:, 0],
+            palm_quat=link_quat[:, 0],
+            palm_linvel=linvel[:, 0],
+            palm_angvel=angvel[:, 0],
+            finger_pos=points[:, 1:-1],
+            finger_quat=link_quat[:, 3:],
+            finger_linvel=linvel[:, 1:-1],
+            finger_angvel=angvel[:, 1:-1],
+            body_pos=_gather(view.xpos, ids, self.active_bodies),
+            hand_pos=link_pos[:, 0],
+            hand_quat=link_quat[:, 0],
+            base_pos=link_pos[:, 1],
+            base_quat=link_quat[:, 1],
+            grasp_pos=points[:, -1],
+            grasp_quat=link_quat[:, 2],
+            grasp_linvel=linvel[:, -1],
+            joint_pos=_gather(view.qpos, ids, self.active_qpos),
+            joint_vel=_gather(view.qvel, ids, self.active_dof),
+            joint_acc=_gather(view.qacc, ids, self.active_dof),
+        )

@@ -16,7 +16,7 @@ from mobilemani_rl.assets.objects import ObjectKind, check_skill, get_object
 from mobilemani_rl.assets.robots import get_robot
 from mobilemani_rl.assets.scenes import ROOM_BODY, RoomJitterCfg, get_placement, sample_room_offsets
 from mobilemani_rl.envs.config import EnvCfg
-from mobilemani_rl.envs.frames import Frames, SimView, read_frames
+from mobilemani_rl.envs.frames import FrameReader, Frames, SimView
 from mobilemani_rl.envs.ik import chain_jacobian, dls_step, wrist_pose_error
 from mobilemani_rl.envs.observations import compute_observation, normalize_to_limits, observation_dim
 from mobilemani_rl.envs.resets import sample_episode_start
@@ -58,6 +58,7 @@ class MobileManiEnv:
         self.max_episode_length = cfg.episode_length
         self.batch = mujoco.batch.Batch(self.model, cfg.num_envs, nthread=cfg.physics.nthread, persistent=True)
         self.view = SimView(self.batch, self.model)
+        self.frame_reader = FrameReader(self.view, self.index)
         self.rng = np.random.default_rng(cfg.seed)
         self.all_ids = np.arange(self.num_envs)
         idx = self.index
@@ -117,7 +118,7 @@ class MobileManiEnv:
             room = self.model.body_pos[self.model.body(ROOM_BODY).id]
             v.mocap_pos[ids, self.room_mocap] = room + sample_room_offsets(self.rng, len(ids), jitter)
         self.batch.forward(ids, stage=mujoco.mjtStage.mjSTAGE_VEL)
-        fresh = read_frames(v, idx, ids)
+        fresh = self.frame_reader.read(ids)
         fresh.joint_acc[:] = 0.0
         self.goal_pos[ids] = start.goal_pos
         distances = TaskDistances.measure(fresh, start.goal_pos)
@@ -158,7 +159,7 @@ class MobileManiEnv:
         self.episode_length_buf += 1
         self.env_times += 1
         self.last_action = actions
-        frames = self.frames = read_frames(self.view, self.index)
+        frames = self.frames = self.frame_reader.read()
         scfg = self.cfg.success
         dist = self.task_distances = TaskDistances.measure(frames, self.goal_pos)
         # Truncation reads the success counter before this step's success is added (reference §5c).
