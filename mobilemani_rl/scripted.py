@@ -214,7 +214,7 @@ class ScriptedPolicy:
 
         moving = self.phase == MOVE
         to_goal = env.goal_pos - f.grasp_pos
-        move = self.move_action()
+        move = self.move_action(to_goal)
         if self.pulls:
             speed = np.minimum(1.0, (self.phase_steps[:, None] + 1) / cfg.move_ramp_steps)
             move = np.clip(move, -speed, speed)
@@ -228,12 +228,11 @@ class ScriptedPolicy:
         self.phase_steps += 1
         return actions
 
-    def move_action(self) -> np.ndarray:
-        """(n, 3) position action moving the grip toward the goal. A hinged grip moves along its circle (the goal
+    def move_action(self, to_goal: np.ndarray) -> np.ndarray:
+        """(n, 3) position action moving the grip by to_goal (goal minus grip). A hinged grip moves along its circle (the goal
         lies on it: both are the same point of the link), toward a point `arc_lead` ahead, by the arc length left:
         pulling along the chord would drag the grip out of the hand."""
         env, f, cfg = self.env, self.env.frames, self.cfg
-        to_goal = env.goal_pos - f.grasp_pos
         if not (self.joint_is_hinge and cfg.arc_lead > 0.0):
             return cfg.pos_gain * to_goal
         anchor, axis = env.view.xanchor[:, self.joint_id], env.view.xaxis[:, self.joint_id]
