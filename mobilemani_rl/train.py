@@ -20,11 +20,13 @@ from mobilemani_rl.rl.factory import build_runner, ppo_cfg_from_hydra
 from mobilemani_rl.rl.run_dir import (
     CURVE,
     RESULT,
+    WARM_START,
     is_complete,
     latest_checkpoint,
     save_or_check_config,
     write_json_atomic,
 )
+from mobilemani_rl.rl.warm_start import warm_start
 
 RUN_KEYS = ("task", "env", "rl")
 
@@ -37,13 +39,18 @@ def train(cfg: DictConfig) -> Path:
     save_or_check_config(run_dir, cfg, RUN_KEYS)
     ppo = ppo_cfg_from_hydra(cfg)
     runner = build_runner(cfg, run_dir)
+    wall = time.time()
     start = 0
     if (checkpoint := latest_checkpoint(run_dir)) is not None:
         runner.load(str(checkpoint))
         start = runner.current_learning_iteration + 1
         runner.current_learning_iteration = start
         print(f"resuming {run_dir} from {checkpoint.name} (iteration {start} of {ppo.max_iterations})")
-    wall = time.time()
+    elif ppo.warm_start.episodes > 0:
+        info = warm_start(runner.alg.actor, runner.alg.critic, runner.env.env, ppo.warm_start, ppo.gamma)
+        write_json_atomic(run_dir / WARM_START, {**info, "seconds": round(time.time() - wall, 1)})
+        print(f"warm start: cloned {info['episodes']} scripted episodes ({info['steps']} steps, scripted success "
+              f"{info['scripted_success']:.2f}), actor loss {info['actor_loss'][0]:.4f} -> {info['actor_loss'][1]:.4f}")
     remaining = ppo.max_iterations - start
     if remaining > 0:
         runner.learn(num_learning_iterations=remaining, init_at_random_ep_len=ppo.init_at_random_ep_len)

@@ -6,6 +6,19 @@ from dataclasses import dataclass, field
 
 
 @dataclass
+class WarmStartCfg:
+    """Behaviour cloning of the scripted policy before PPO (mobilemani_rl.rl.warm_start); off in the reference."""
+
+    episodes: int = 0  # scripted episodes per object (rounded up to whole batches); 0: from scratch (reference)
+    action_noise: float = 0.3  # std of the noise on the executed scripted actions, not their labels (0.5 clones worse)
+    epochs: int = 20
+    mini_batch_size: int = 1024
+    learning_rate: float = 1e-3
+    noise_std: float = 0.3  # action noise PPO starts from: the cloned actions need refinement, not a search
+    seed: int = 100_000  # first seed of the scripted episodes (evaluation uses 1000 upward)
+
+
+@dataclass
 class PpoCfg:
     """Defaults are the reference's (reference §7), i.e. conf/rl/ppo/paper.yaml."""
 
@@ -36,6 +49,7 @@ class PpoCfg:
     init_at_random_ep_len: bool = True
     seed: int = 42
     torch_threads: int = 0  # 0: torch's default
+    warm_start: WarmStartCfg = field(default_factory=WarmStartCfg)
 
 
 def rsl_rl_train_cfg(ppo: PpoCfg, logger: dict | str, run_name: str) -> dict:

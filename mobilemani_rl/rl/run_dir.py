@@ -16,6 +16,7 @@ from omegaconf import DictConfig, OmegaConf
 CONFIG = "config.yaml"
 RESULT = "result.json"
 CURVE = "curve.json"
+WARM_START = "warm_start.json"  # behaviour-cloning statistics, when the run started from the scripted policy
 _CHECKPOINT = re.compile(r"model_(\d+)\.pt$")
 
 

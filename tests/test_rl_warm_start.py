@@ -1,0 +1,76 @@
+"""Warm start of a PPO teacher from the scripted policy: labels, returns, cloning and its use in training."""
+
+import json
+from pathlib import Path
+
+import numpy as np
+import pytest
+import torch
+from hydra import compose, initialize_config_dir
+from tensordict import TensorDict
+
+from mobilemani_rl.rl.factory import build_runner, ppo_cfg_from_hydra
+from mobilemani_rl.rl.warm_start import collect, discounted_returns, warm_start
+from mobilemani_rl.train import train
+
+ROOT = Path(__file__).resolve().parents[1]
+TINY = ["rl/ppo=tiny", "task.object=test/can", "task.skill=pick", "rl.ppo.warm_start.episodes=8",
+        "rl.ppo.warm_start.epochs=30", "rl.ppo.warm_start.mini_batch_size=256"]
+
+
+def compose_rl(overrides: list[str]):
+    with initialize_config_dir(config_dir=str(ROOT / "conf"), version_base="1.3"):
+        return compose(config_name="rl", overrides=overrides)
+
+
+def test_discounted_returns_sum_each_episodes_future_rewards():
+    rewards = np.array([[1.0, 2.0], [1.0, 0.0], [1.0, 0.0]])  # env 1's episode ended after one step
+    returns = discounted_returns(rewards, gamma=0.5)
+    np.testing.assert_allclose(returns, [[1.75, 2.0], [1.5, 0.0], [1.0, 0.0]])
+
+
+@pytest.fixture(scope="module")
+def tiny_runner():
+    cfg = compose_rl(TINY)
+    return build_runner(cfg, run_dir=None), ppo_cfg_from_hydra(cfg)
+
+
+def test_collected_labels_are_scripted_actions_of_every_step(tiny_runner):
+    runner, ppo = tiny_runner
+    env = runner.env.env
+    demos = collect(env, episodes=12, noise=0.3, seed=5, gamma=ppo.gamma)
+    assert demos.episodes == 16  # rounded up to two batches of 8 envs
+    assert demos.obs.shape == (len(demos.actions), env.num_obs) and demos.actions.shape[1] == env.num_actions
+    assert len(demos.returns) == len(demos.obs) and demos.successes > 0
+    # Far from the can the distance penalties dominate; holding it at the goal earns the bonuses.
+    assert demos.returns.min() < 0.0 < demos.returns.max()
+    assert np.all(np.abs(demos.actions) <= 1.0)  # labels are the clipped scripted actions, not the noisy ones
+    assert set(np.unique(demos.actions[:, 6])) <= {-1.0, 1.0}  # the gripper is scripted open or closed
+    assert 8 * 2 <= len(demos.obs) <= 16 * env.max_episode_length
+
+
+def test_warm_start_clones_the_scripted_actions_and_sets_the_noise(tiny_runner):
+    runner, ppo = tiny_runner
+    actor, critic, env = runner.alg.actor, runner.alg.critic, runner.env.env
+    held_out = collect(env, episodes=8, noise=0.3, seed=77, gamma=ppo.gamma)
+    x = TensorDict({"policy": torch.from_numpy(held_out.obs)}, batch_size=[len(held_out.obs)])
+
+    def error() -> float:
+        with torch.no_grad():
+            return float(((actor(x).numpy() - held_out.actions) ** 2).mean())
+
+    before = error()
+    info = warm_start(actor, critic, env, ppo.warm_start, ppo.gamma)
+    assert info["episodes"] == 8 and info["actor_loss"][1] < 0.5 * info["actor_loss"][0]
+    assert info["critic_loss"][1] < info["critic_loss"][0]
+    assert error() < 0.5 * before  # also on episodes it was not fitted to
+    std = actor.distribution.std_param
+    assert torch.equal(std, torch.full_like(std, ppo.warm_start.noise_std))
+    assert np.all(env.env_times == 0)  # left at fresh episodes
+
+
+def test_training_starts_from_the_warm_start_once(tmp_path):
+    run_dir = tmp_path / "run"
+    train(compose_rl([*TINY, f"run_dir={run_dir}", "rl.ppo.max_iterations=2"]))
+    info = json.loads((run_dir / "warm_start.json").read_text())
+    assert info["episodes"] == 8 and info["steps"] > 0 and (run_dir / "result.json").exists()
