@@ -8,6 +8,7 @@ Reads the TensorBoard events every run writes, so it also works for runs that we
 from __future__ import annotations
 
 import argparse
+import json
 from pathlib import Path
 
 import matplotlib
@@ -16,6 +17,8 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import yaml  # noqa: E402
 from tensorboard.backend.event_processing.event_accumulator import EventAccumulator  # noqa: E402
+
+from mobilemani_rl.rl.run_dir import WARM_START  # noqa: E402
 
 SUCCESS = "/episode/success_flag"
 REWARD = "Train/mean_reward"
@@ -26,6 +29,9 @@ def load_run(run_dir: Path) -> dict[str, list[tuple[float, float, float]]]:
     cfg = yaml.safe_load((run_dir / "config.yaml").read_text())
     per_iteration = cfg["rl"]["ppo"]["num_envs"] * cfg["rl"]["ppo"]["num_steps_per_env"]
     series: dict[str, list[tuple[float, float, float]]] = {SUCCESS: [], REWARD: []}
+    # Wall time includes a warm start from the scripted policy, which precedes the first logged iteration.
+    warm_start = run_dir / WARM_START
+    offset = json.loads(warm_start.read_text())["seconds"] if warm_start.exists() else 0.0
     for events in sorted(run_dir.glob("events.out.tfevents.*")):
         acc = EventAccumulator(str(events))
         acc.Reload()
@@ -33,7 +39,7 @@ def load_run(run_dir: Path) -> dict[str, list[tuple[float, float, float]]]:
             if tag in acc.Tags()["scalars"]:
                 scalars = acc.Scalars(tag)
                 start = scalars[0].wall_time if scalars else 0.0
-                series[tag] += [((s.step + 1) * per_iteration, s.wall_time - start, s.value) for s in scalars]
+                series[tag] += [((s.step + 1) * per_iteration, s.wall_time - start + offset, s.value) for s in scalars]
     return series
 
 

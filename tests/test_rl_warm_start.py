@@ -74,3 +74,11 @@ def test_training_starts_from_the_warm_start_once(tmp_path):
     train(compose_rl([*TINY, f"run_dir={run_dir}", "rl.ppo.max_iterations=2"]))
     info = json.loads((run_dir / "warm_start.json").read_text())
     assert info["episodes"] == 8 and info["steps"] > 0 and (run_dir / "result.json").exists()
+
+
+def test_multi_object_env_collects_episodes_of_every_object():
+    cfg = compose_rl(["rl/ppo=tiny", "task.object=laptop", "objects_per_policy=2"])
+    env = build_runner(cfg, run_dir=None).env.env
+    demos = collect(env, episodes=4, noise=0.3, seed=5, gamma=0.99)
+    assert [part.num_envs for part in env.envs] == [4, 4] and demos.episodes == 8
+    assert len(demos.obs) >= 8 and demos.actions.shape == (len(demos.obs), env.num_actions)
