@@ -17,12 +17,7 @@ from mobilemani_rl.assets.objects import CATEGORIES, get_object
 sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "scripts"))
 from scripted_success_table import PASS_RATE, episode_success, sample_objects  # noqa: E402
 
-XHAND_PICK = ("an object on a low stage (0.22-0.25 m above the base, seeded episodes 2 and 3) lies ~0.70 m from the "
-              "shoulder, at the 0.71 m reach of the stretched arm and palm-down hand; the stage stops the base and the "
-              "IK does not turn it to bring the shoulder closer, so the hand stops ~10 cm short (each sampled object "
-              "succeeds ~0.7-0.9 of the time, ~0.25-0.5 on stages below 0.34 m; the thumb, which closes beside the "
-              "index, also lets the fruit and the block slip)")
-KNOWN_GAPS = {("xhand", "holistic", "pick"): XHAND_PICK}
+KNOWN_GAPS: dict[tuple[str, str, str], str] = {}
 CASES = [(robot, category, skill) for robot in ("g1", "xhand") for category in CATEGORIES
          for skill in get_object(sample_objects(category, 1)[0]).skills]
 
