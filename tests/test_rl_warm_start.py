@@ -71,9 +71,15 @@ def test_warm_start_clones_the_scripted_actions_and_sets_the_noise(tiny_runner):
 
 def test_training_starts_from_the_warm_start_once(tmp_path):
     run_dir = tmp_path / "run"
-    train(compose_rl([*TINY, f"run_dir={run_dir}", "rl.ppo.max_iterations=2"]))
+    overrides = [*TINY, f"run_dir={run_dir}", "rl.ppo.max_iterations=2"]
+    train(compose_rl(overrides))
     info = json.loads((run_dir / "warm_start.json").read_text())
     assert info["episodes"] == 8 and info["steps"] > 0 and (run_dir / "result.json").exists()
+    # A resumed run continues from its checkpoint instead of cloning again.
+    (run_dir / "result.json").unlink()
+    written = (run_dir / "warm_start.json").stat().st_mtime_ns
+    train(compose_rl(overrides))
+    assert (run_dir / "warm_start.json").stat().st_mtime_ns == written and (run_dir / "result.json").exists()
 
 
 def test_multi_object_env_collects_episodes_of_every_object():
