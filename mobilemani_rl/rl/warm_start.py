@@ -1,4 +1,5 @@
-"""Warm start of a PPO teacher from the scripted policy (a deviation from the reference, off in its preset).
+"""Warm start of a PPO teacher from the scripted policy (a deviation from the reference: on in the
+cpu preset, off in the paper preset).
 
 The reference trains every teacher from scratch on ~65M samples. A 2-core machine collects ~7M in an hour,
 enough for reaching and opening but too few for PPO to discover a grasp that lifts an object (it learns to
@@ -32,7 +33,6 @@ class Demonstrations:
     returns: np.ndarray  # (steps,) discounted return from each step to its episode's end
     episodes: int
     successes: int
-
 
 
 class _LabellingPolicy:
