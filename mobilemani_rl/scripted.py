@@ -25,10 +25,9 @@ import numpy as np
 from mobilemani_rl.assets.objects import ObjectKind
 from mobilemani_rl.envs.mobilemani_env import PALM_ROTATION_TASKS, MobileManiEnv
 from mobilemani_rl.envs.observations import normalize_to_limits
-from mobilemani_rl.envs.rewards import GRASP_DIRECTION, palm_direction, rotation_to
+from mobilemani_rl.envs.rewards import GRASP_DIRECTION, palm_direction, rotation_onto, rotation_to
 from mobilemani_rl.rotations import (
     cross,
-    euler_from_quat,
     quat_apply,
     quat_between_vectors,
     quat_conj,
@@ -173,7 +172,7 @@ class ScriptedPolicy:
         if not self.palm_rotation:
             return rotation_to(palm_quat, approach)
         target = quat_mul(quat_between_vectors(palm_direction(env.palm_rot_target), approach), env.palm_rot_target)
-        return np.clip(euler_from_quat(quat_mul(target, quat_conj(palm_quat))), -1.0, 1.0)
+        return rotation_onto(palm_quat, target)
 
     def top_down_rotation(self) -> np.ndarray:
         """(n, 3) RPY turning the palm down with the fingers (the hand frame's -x) `pick_finger_yaw` left of the
@@ -186,7 +185,7 @@ class ScriptedPolicy:
         fingers /= np.maximum(np.linalg.norm(fingers, axis=1, keepdims=True), 1e-9)
         down = np.broadcast_to(DOWN, fingers.shape)
         target = quat_from_matrix(np.stack([-fingers, cross(down, -fingers), down], axis=-1))
-        return np.clip(euler_from_quat(quat_mul(target, quat_conj(f.palm_quat))), -1.0, 1.0)
+        return rotation_onto(f.palm_quat, target)
 
     def __call__(self) -> np.ndarray:
         env, cfg, f = self.env, self.cfg, self.env.frames

@@ -66,6 +66,11 @@ def rotation_to(palm_quat: np.ndarray, target_dir: np.ndarray) -> np.ndarray:
     return np.clip(euler_from_quat(quat_between_vectors(palm_direction(palm_quat), target_dir)), -1.0, 1.0)
 
 
+def rotation_onto(palm_quat: np.ndarray, target_quat: np.ndarray) -> np.ndarray:
+    """Clipped RPY of the world-frame rotation taking the palm orientation onto target_quat."""
+    return np.clip(euler_from_quat(quat_mul(target_quat, quat_conj(palm_quat))), -1.0, 1.0)
+
+
 @dataclass(frozen=True)
 class RewardContext:
     """Per-env constants of the current episodes that rewards need besides the frames."""
@@ -93,7 +98,7 @@ def reward_terms(frames: Frames, actions: np.ndarray, ctx: RewardContext, d: Tas
     if ctx.palm_rot_target is None:
         palm_rot = np.zeros(n)
     else:
-        pitch = np.clip(euler_from_quat(quat_mul(ctx.palm_rot_target, quat_conj(frames.palm_quat)))[:, 1], -1, 1)
+        pitch = rotation_onto(frames.palm_quat, ctx.palm_rot_target)[:, 1]
         palm_rot = np.abs(pitch - actions[:, 4]) * reaching
     # The four wrist-action gaps, (reach, move) x (position, rotation), in one norm.
     wrist = actions[:, :6].reshape(n, 1, 2, 3)
