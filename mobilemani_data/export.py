@@ -24,6 +24,7 @@ from omegaconf import DictConfig
 from mobilemani_data import schema
 from mobilemani_data.config import DataCfg, ExportCfg, data_cfg_from_hydra
 from mobilemani_data.convert import FIRST_FRAME, camera_images, episode_vectors
+from mobilemani_data.frame import robot_cameras
 from mobilemani_data.replay import Replayer
 from mobilemani_data.shards import Shard, ShardError, read_shard, shard_paths
 from mobilemani_rl.assets.robots import RobotDescription, get_robot
@@ -50,16 +51,11 @@ def create_dataset(root: Path, robot: RobotDescription, cfg: ExportCfg) -> LeRob
                                  streaming_encoding=cfg.streaming_encoding)
 
 
-def camera_names(robot: RobotDescription) -> dict[str, str]:
-    """Schema camera -> the robot's MuJoCo camera."""
-    return dict(zip(schema.CAMERAS, (robot.head_camera, robot.wrist_camera), strict=True))
-
-
 def add_shard(ds: LeRobotDataset, shard: Shard, robot: RobotDescription, cfg: ExportCfg, raw_dir: Path,
               report: ExportReport) -> list[dict]:
     """Render and save every episode of a shard; returns their metadata lines."""
     replayer = Replayer(shard)
-    cameras = camera_names(robot)
+    cameras = robot_cameras(robot)
     renderer = CameraRenderer(replayer.model, CameraRenderCfg(width=cfg.width, height=cfg.height,
                                                               cameras=tuple(cameras.values())))
     lines = []

@@ -12,10 +12,6 @@ last frame's label is the episode's final action (no duplication needed).
 
 from __future__ import annotations
 
-import numpy as np
-
-from mobilemani_rl.rotations import euler_from_quat
-
 FPS = 30
 CAMERAS = ("head", "wrist")
 MODALITIES = ("rgb", "depth", "seg")
@@ -23,7 +19,8 @@ DEPTH_RANGE_M = 5.0
 SEGMENTATION_SCALE = 100  # label * 100 in every channel: 0, 100, 200
 
 STATE = "observation.state"  # world: hand pos (3), hand RPY (3), base pos (3), base RPY (3), hand joints (nh)
-WRIST_POSE_BASE = "observation.wrist_pose_base"  # hand pos + RPY in the base frame (6)
+WRIST_POSE_BASE = "observation.wrist_pose_base"  # hand pos (3) + 6D rotation (2 matrix columns, 6) in the base frame
+WRIST_POSE_DIM = 9
 # The episode's initial (reset-state) grasp point and its goal point: fixed world points, expressed in each frame's
 # current base frame (the base moves during the episode).
 GRASP_POINT_BASE = "observation.grasp_point_base"  # (3)
@@ -42,13 +39,6 @@ def image_key(camera: str, modality: str) -> str:
     return f"observation.images.{camera}_{modality}"
 
 
-def world_state(hand_pos: np.ndarray, hand_quat: np.ndarray, base_pos: np.ndarray, base_quat: np.ndarray,
-                hand_joint_pos: np.ndarray) -> np.ndarray:
-    """`observation.state` rows: hand pos, hand RPY, base pos, base RPY, hand joints (all world frame)."""
-    return np.concatenate((hand_pos, euler_from_quat(hand_quat), base_pos, euler_from_quat(base_quat),
-                           hand_joint_pos), axis=-1)
-
-
 def state_dim(num_hand_joints: int) -> int:
     return 12 + num_hand_joints
 
@@ -61,7 +51,7 @@ def features(action_dim: int, num_hand_joints: int, height: int, width: int,
     spec = {image_key(c, m): dict(image) for c in cameras for m in modalities}
     spec.update({
         STATE: vector(state_dim(num_hand_joints)),
-        WRIST_POSE_BASE: vector(6),
+        WRIST_POSE_BASE: vector(WRIST_POSE_DIM),
         GRASP_POINT_BASE: vector(3),
         GOAL_POINT_BASE: vector(3),
         ACTION: vector(action_dim),

@@ -1,9 +1,10 @@
 """Checkpoint directory layout (one per saved step, written under a temporary name and renamed when complete):
 
     model.safetensors  optimizer.bin  random_states_*.pkl   accelerate's training state (weights unwrapped)
+    ema.safetensors      the moving average of the weights (train.ema_decay > 0); evaluation loads these
     config.yaml          the VLACfg
     backbone_config.json the PaliGemma config, so reloading needs no pretrained directory
-    normalizer.json      q01/q99 of actions and states
+    normalizer.json      per-dimension bounds of actions and states (training split)
     tokenizer/           the tokenizer
     trainer_state.json   the step
 """
@@ -15,21 +16,25 @@ import shutil
 from pathlib import Path
 
 import torch
-from safetensors.torch import load_file
+from safetensors.torch import load_file, load_model, save_model
+from torch.optim.swa_utils import AveragedModel
 from transformers import PaliGemmaConfig, PreTrainedTokenizerBase
 
 from mobilemani_vla.config import VLACfg, vla_cfg_from_yaml, vla_cfg_to_yaml
 from mobilemani_vla.model import MobileManiVLA, build_model
-from mobilemani_vla.normalizer import QuantileNormalizer
+from mobilemani_vla.normalizer import Normalizer
 from mobilemani_vla.tokenizer import load_tokenizer
 
 WEIGHTS = "model.safetensors"
+EMA_WEIGHTS = "ema.safetensors"
 STATE = "trainer_state.json"
 PREFIX = "step_"
 
 
-def save_artifacts(directory: Path, cfg: VLACfg, model: MobileManiVLA, normalizer: QuantileNormalizer,
-                   tokenizer: PreTrainedTokenizerBase, step: int) -> None:
+def save_artifacts(directory: Path, cfg: VLACfg, model: MobileManiVLA, normalizer: Normalizer,
+                   tokenizer: PreTrainedTokenizerBase, step: int, ema: AveragedModel | None = None) -> None:
+    if ema is not None:
+        save_model(ema, str(directory / EMA_WEIGHTS))
     (directory / "config.yaml").write_text(vla_cfg_to_yaml(cfg))
     model.backbone.vlm.config.to_json_file(directory / "backbone_config.json")
     normalizer.save(directory / "normalizer.json")
@@ -62,13 +67,24 @@ def checkpoint_step(directory: Path) -> int:
     return json.loads((directory / STATE).read_text())["step"]
 
 
+def load_ema(ema: AveragedModel, directory: Path) -> None:
+    """Restore a resumed run's moving average (weights and update count)."""
+    load_model(ema, str(directory / EMA_WEIGHTS))
+
+
 def load_checkpoint(directory: str | Path, device: str | torch.device = "cpu"
-                    ) -> tuple[VLACfg, MobileManiVLA, QuantileNormalizer, PreTrainedTokenizerBase]:
+                    ) -> tuple[VLACfg, MobileManiVLA, Normalizer, PreTrainedTokenizerBase]:
+    """The evaluated model: the moving-average weights when the run kept them, else the trained ones."""
     directory = Path(directory)
     if not (directory / WEIGHTS).is_file() or not (directory / STATE).is_file():
         raise FileNotFoundError(f"{directory} is not a complete MobileManiVLA checkpoint (no {WEIGHTS} / {STATE})")
     cfg = vla_cfg_from_yaml((directory / "config.yaml").read_text())
     tokenizer = load_tokenizer(directory / "tokenizer")
     model = build_model(cfg, tokenizer, PaliGemmaConfig.from_json_file(directory / "backbone_config.json"))
-    model.load_state_dict(load_file(directory / WEIGHTS))
-    return cfg, model.to(device).eval(), QuantileNormalizer.load(directory / "normalizer.json"), tokenizer
+    if (directory / EMA_WEIGHTS).is_file():
+        prefix = "module."
+        state = {k[len(prefix):]: v for k, v in load_file(directory / EMA_WEIGHTS).items() if k.startswith(prefix)}
+    else:
+        state = load_file(directory / WEIGHTS)
+    model.load_state_dict(state)
+    return cfg, model.to(device).eval(), Normalizer.load(directory / "normalizer.json"), tokenizer

@@ -77,7 +77,9 @@ class DiffusionCfg:
 class DataCfg:
     root: str = "data/g1/lerobot"
     repo_id: str = "mobilemani/g1"
-    episodes: list[int] | None = None
+    episodes: list[int] | None = None  # null: every episode
+    heldout_episodes: int = 4  # whole episodes kept out of training for the diagnostics (seeded choice)
+    cache: bool = True  # decoded-frame cache next to the dataset (mobilemani_vla.frame_cache); false: decode per sample
     video_backend: str = "pyav"
     num_workers: int = 0
 
@@ -87,11 +89,17 @@ class TrainCfg:
     batch_size: int = 8  # global batch, split over processes
     steps: int = 1000
     lr: float = 2e-5
+    lr_schedule: str = "constant"  # a diffusers.optimization schedule name: constant, cosine, linear, ...
+    warmup_steps: int = 0
     weight_decay: float = 0.0
+    ema_decay: float = 0.0  # > 0: an exponential moving average of the weights, saved and used for evaluation
     grad_clip: float = 1.0
     mixed_precision: str = "no"  # "bf16" on GPUs
     gradient_checkpointing: bool = False
     log_every: int = 10
+    diagnose_every: int = 0  # > 0: held-out diagnostics (noise error with image vs null feature, open-loop error)
+    diagnose_frames: int = 64  # held-out frames the diagnostics use (a fixed, evenly spaced choice)
+    diagnose_cfg_scales: list[float] = field(default_factory=lambda: [1.0, 1.5])  # open-loop error per scale
     save_every: int = 500
     keep_checkpoints: int = 2
     resume: bool = True  # continue from the newest checkpoint in output_dir

@@ -1,15 +1,29 @@
-"""Reads the MobileManiDataset (LeRobot v3) for the VLA: selected cameras, base-frame states, 16-step chunks."""
+"""Reads the MobileManiDataset (LeRobot v3) for the VLA: selected cameras, base-frame states, 16-step chunks.
+
+Every frame's vectors are read once into memory (`FrameTable`); images come either from the decoded-frame cache
+(`frame_cache`, the default: training is then compute-bound) or, with `data.cache=false`, from LeRobot's own
+video decoding per sample. Both give the same frame dicts to the processor. A few whole episodes are held out of
+training (`data.heldout_episodes`) for the diagnostics; normalisation bounds come from the training episodes only.
+"""
 
 from __future__ import annotations
 
+from dataclasses import dataclass
 from pathlib import Path
 
+import numpy as np
+import torch
 from lerobot.datasets.dataset_metadata import LeRobotDatasetMetadata
 from lerobot.datasets.lerobot_dataset import LeRobotDataset
+from torch.utils.data import Dataset
 
 from mobilemani_data import schema
 from mobilemani_vla.config import VLACfg
+from mobilemani_vla.frame_cache import cached_images
+from mobilemani_vla.normalizer import Normalizer
 from mobilemani_vla.processor import STATE_KEYS, camera_key
+
+PAD = f"{schema.ACTION_BASE}_is_pad"
 
 
 def required_features(cfg: VLACfg) -> list[str]:
@@ -17,9 +31,8 @@ def required_features(cfg: VLACfg) -> list[str]:
             + [schema.ACTION_BASE])
 
 
-def open_dataset(cfg: VLACfg) -> LeRobotDataset:
-    """The local dataset with `action_base` chunks of `diffusion.chunk` steps (LeRobot marks rows past the episode
-    end in `action_base_is_pad`); stops with one message if the dataset does not fit the config."""
+def open_metadata(cfg: VLACfg) -> LeRobotDatasetMetadata:
+    """The dataset's metadata; stops with one message if there is no dataset or it does not fit the config."""
     root = Path(cfg.data.root)
     if not (root / "meta" / "info.json").is_file():
         raise FileNotFoundError(f"no LeRobot dataset at {root} (set data.root; export one with mobilemani_data)")
@@ -27,13 +40,117 @@ def open_dataset(cfg: VLACfg) -> LeRobotDataset:
     missing = [k for k in required_features(cfg) if k not in meta.features]
     if missing:
         raise KeyError(f"dataset {root} lacks features {missing} needed by inputs {cfg.inputs}")
-    action_shape = tuple(meta.features[schema.ACTION_BASE]["shape"])
-    if action_shape != (cfg.action_dim,):
-        raise ValueError(f"dataset actions have shape {action_shape} but robot={cfg.robot} needs ({cfg.action_dim},)")
-    deltas = {schema.ACTION_BASE: [i / meta.fps for i in range(cfg.diffusion.chunk)]}
-    return LeRobotDataset(cfg.data.repo_id, root=root, episodes=cfg.data.episodes, delta_timestamps=deltas,
+    for key in [STATE_KEYS[s] for s in cfg.inputs.states] + [schema.ACTION_BASE]:
+        want = (cfg.action_dim,) if key == schema.ACTION_BASE else None
+        have = tuple(meta.features[key]["shape"])
+        if want is not None and have != want:
+            raise ValueError(f"dataset {key} has shape {have} but robot={cfg.robot} needs {want}")
+    return meta
+
+
+@dataclass
+class FrameTable:
+    """Every frame's vectors in dataset index order, plus where each frame's episode ends."""
+
+    columns: dict[str, np.ndarray]
+    episode_index: np.ndarray  # (frames,)
+    episode_end: np.ndarray  # (frames,) dataset index one past the last frame of the row's episode
+    tasks: list[str]  # (frames,) instruction of each row
+
+    @classmethod
+    def read(cls, meta: LeRobotDatasetMetadata, keys: list[str]) -> FrameTable:
+        table = LeRobotDataset(meta.repo_id, root=meta.root).hf_dataset.with_format("numpy")[:]
+        episode_index = table["episode_index"]
+        ends = {ep["episode_index"]: ep["dataset_to_index"] for ep in meta.episodes}
+        names = {int(i): task for task, i in zip(meta.tasks.index, meta.tasks["task_index"], strict=True)}
+        return cls({k: table[k] for k in keys}, episode_index, np.array([ends[e] for e in episode_index]),
+                   [names[int(i)] for i in table["task_index"]])
+
+    def rows(self, episodes: np.ndarray) -> np.ndarray:
+        return np.flatnonzero(np.isin(self.episode_index, episodes))
+
+    def chunk(self, row: int, length: int) -> tuple[np.ndarray, np.ndarray]:
+        """Dataset rows of the chunk starting at `row` (the episode's last frame repeated past its end) and the
+        padding mask, as LeRobot's delta timestamps give them."""
+        wanted = row + np.arange(length)
+        return np.minimum(wanted, self.episode_end[row] - 1), wanted >= self.episode_end[row]
+
+
+def split_episodes(episodes: list[int], heldout: int, seed: int) -> tuple[np.ndarray, np.ndarray]:
+    """(training, held-out) episode indices; the held-out ones are a seeded random choice."""
+    episodes = np.asarray(sorted(episodes))
+    if heldout >= len(episodes):
+        raise ValueError(f"data.heldout_episodes={heldout} leaves no training episode of {len(episodes)}")
+    chosen = np.random.default_rng(seed).choice(len(episodes), size=heldout, replace=False)
+    mask = np.zeros(len(episodes), bool)
+    mask[chosen] = True
+    return episodes[~mask], episodes[mask]
+
+
+def fit_normalizer(table: FrameTable, rows: np.ndarray, states: list[str]) -> Normalizer:
+    keys = [schema.ACTION_BASE] + [STATE_KEYS[s] for s in states]
+    return Normalizer.fit({k: table.columns[k][rows] for k in keys})
+
+
+class CachedFrames(Dataset):
+    """Frames `rows` of the dataset: images from the decoded-frame cache, vectors and chunks from the table."""
+
+    def __init__(self, table: FrameTable, rows: np.ndarray, images: np.ndarray, cameras: list[str],
+                 states: list[str], chunk: int) -> None:
+        self.table, self.rows, self.images = table, rows, images
+        self.cameras, self.states, self.chunk_length = cameras, states, chunk
+
+    def __len__(self) -> int:
+        return len(self.rows)
+
+    def __getitem__(self, i: int) -> dict:
+        row = int(self.rows[i])
+        frames = torch.from_numpy(np.array(self.images[row]))  # a copy: the cache is a read-only map
+        chunk_rows, pad = self.table.chunk(row, self.chunk_length)
+        item = {camera_key(c): frames[k] for k, c in enumerate(self.cameras)}
+        item.update({STATE_KEYS[s]: torch.from_numpy(self.table.columns[STATE_KEYS[s]][row]) for s in self.states})
+        item[schema.ACTION_BASE] = torch.from_numpy(self.table.columns[schema.ACTION_BASE][chunk_rows])
+        item[PAD] = torch.from_numpy(pad)
+        item["task"] = self.table.tasks[row]
+        return item
+
+
+@dataclass
+class VLAData:
+    meta: LeRobotDatasetMetadata
+    table: FrameTable
+    train_episodes: np.ndarray
+    heldout_episodes: np.ndarray
+    train: Dataset  # training frames, as frame dicts
+    heldout: Dataset | None  # held-out frames, same format (None without held-out episodes)
+
+    @property
+    def tasks(self) -> list[str]:
+        return sorted(self.meta.tasks.index)
+
+
+def _decoded_frames(cfg: VLACfg, fps: int, episodes: np.ndarray) -> LeRobotDataset:
+    deltas = {schema.ACTION_BASE: [i / fps for i in range(cfg.diffusion.chunk)]}
+    return LeRobotDataset(cfg.data.repo_id, root=cfg.data.root, episodes=episodes.tolist(), delta_timestamps=deltas,
                           video_backend=cfg.data.video_backend)
 
 
-def dataset_tasks(dataset: LeRobotDataset) -> list[str]:
-    return sorted(dataset.meta.tasks.index)
+def open_data(cfg: VLACfg, image_size: int, progress: bool = True) -> VLAData:
+    """The training and held-out frames of the configured dataset (episodes `data.episodes`, or all)."""
+    meta = open_metadata(cfg)
+    episodes = cfg.data.episodes if cfg.data.episodes is not None else list(range(meta.total_episodes))
+    train_eps, heldout_eps = split_episodes(episodes, cfg.data.heldout_episodes, cfg.train.seed)
+    keys = [schema.ACTION_BASE] + [STATE_KEYS[s] for s in cfg.inputs.states]
+    table = FrameTable.read(meta, keys)
+    if cfg.data.cache:
+        images = cached_images(Path(cfg.data.root), meta, cfg.inputs.cameras, image_size, cfg.data.video_backend,
+                               progress)
+
+        def frames(eps: np.ndarray) -> Dataset:
+            return CachedFrames(table, table.rows(eps), images, cfg.inputs.cameras, cfg.inputs.states,
+                                cfg.diffusion.chunk)
+    else:
+        def frames(eps: np.ndarray) -> Dataset:
+            return _decoded_frames(cfg, meta.fps, eps)
+    heldout = frames(heldout_eps) if len(heldout_eps) else None
+    return VLAData(meta, table, train_eps, heldout_eps, frames(train_eps), heldout)

@@ -47,12 +47,16 @@ class ActionDiffusion(nn.Module):
 
     @torch.no_grad()
     def sample(self, cognition: torch.Tensor, extra: torch.Tensor | None, action_dim: int,
-               generator: torch.Generator | None = None) -> torch.Tensor:
-        """DDIM (eta 0) from pure noise -> normalised chunk (B, N, A); guidance eps_u + s (eps_c - eps_u)."""
+               generator: torch.Generator | None = None, cfg_scale: float | None = None) -> torch.Tensor:
+        """DDIM (eta 0) from pure noise -> normalised chunk (B, N, A); guidance eps_u + s (eps_c - eps_u) with
+        s = `cfg_scale` (default: the config's). The noise is drawn on the generator's device (a CPU generator
+        stays reproducible whatever device the model runs on) and moved to the model's."""
         b = cognition.shape[0]
-        x = torch.randn(b, self.cfg.chunk, action_dim, generator=generator, device=cognition.device,
-                        dtype=cognition.dtype)
-        guide = self.guided and self.cfg.cfg_scale != 1.0
+        scale = self.cfg.cfg_scale if cfg_scale is None else cfg_scale
+        noise_device = generator.device if generator is not None else cognition.device
+        x = torch.randn(b, self.cfg.chunk, action_dim, generator=generator, device=noise_device,
+                        dtype=cognition.dtype).to(cognition.device)
+        guide = self.guided and scale != 1.0
         if guide:  # one pass over [conditional, unconditional]
             cognition = torch.cat([cognition, cognition])
             extra = None if extra is None else torch.cat([extra, extra])
@@ -62,7 +66,7 @@ class ActionDiffusion(nn.Module):
             steps = t.to(x.device).expand(cognition.shape[0])
             if guide:
                 eps_c, eps_u = self.dit(torch.cat([x, x]), steps, cognition, extra, drop).chunk(2)
-                eps = eps_u + self.cfg.cfg_scale * (eps_c - eps_u)
+                eps = eps_u + scale * (eps_c - eps_u)
             else:
                 eps = self.dit(x, steps, cognition, extra)
             x = self.scheduler.step(eps, t, x, eta=0.0).prev_sample

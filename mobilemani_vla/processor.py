@@ -1,7 +1,8 @@
 """Turns LeRobot frames (or live observations shaped like them) into model batches.
 
-One code path for training and inference: cameras resized to the backbone's image size, state inputs
-normalised and concatenated, prompts tokenised (left-padded), action chunks normalised with padding handled.
+One code path for training and inference: cameras (uint8, or float in [0, 1]) resized to the backbone's image
+size, state inputs normalised and concatenated, prompts tokenised (left-padded), action chunks normalised with
+padding handled.
 """
 
 from __future__ import annotations
@@ -13,11 +14,11 @@ import torch.nn.functional as F
 from transformers import PreTrainedTokenizerBase
 
 from mobilemani_data import schema
-from mobilemani_vla.normalizer import QuantileNormalizer
+from mobilemani_vla.normalizer import Normalizer
 
 STATE_KEYS = {"wrist_pose": schema.WRIST_POSE_BASE, "grasp_point": schema.GRASP_POINT_BASE,
               "goal_point": schema.GOAL_POINT_BASE}
-STATE_DIMS = {"wrist_pose": 6, "grasp_point": 3, "goal_point": 3}
+STATE_DIMS = {"wrist_pose": schema.WRIST_POSE_DIM, "grasp_point": 3, "goal_point": 3}
 WRIST_DELTA_DIMS = 6  # action[0:6] are wrist deltas; action[6:] absolute gripper/hand targets
 
 
@@ -27,10 +28,24 @@ def camera_key(camera: str) -> str:
     return schema.image_key(name, modality)
 
 
+def resize_images(images: torch.Tensor, size: int) -> torch.Tensor:
+    """(..., 3, H, W) float -> (..., 3, size, size), antialiased bilinear (a no-op at the right size)."""
+    if images.shape[-2:] == (size, size):
+        return images
+    flat = images.reshape(-1, *images.shape[-3:])
+    out = F.interpolate(flat, size=(size, size), mode="bilinear", antialias=True, align_corners=False)
+    return out.reshape(*images.shape[:-2], size, size)
+
+
+def as_unit_float(image: torch.Tensor) -> torch.Tensor:
+    """uint8 images -> float in [0, 1]; float images pass through."""
+    return image.float() / 255.0 if image.dtype == torch.uint8 else image.float()
+
+
 @dataclass
 class VLAProcessor:
     tokenizer: PreTrainedTokenizerBase
-    normalizer: QuantileNormalizer
+    normalizer: Normalizer
     cameras: list[str]
     states: list[str]
     image_size: int
@@ -41,12 +56,9 @@ class VLAProcessor:
         return sum(STATE_DIMS[s] for s in self.states)
 
     def images(self, frame: dict) -> torch.Tensor:
-        """Selected cameras, each (3, H, W) float in [0, 1] -> (K, 3, S, S)."""
-        stacked = torch.stack([frame[camera_key(c)].float() for c in self.cameras])
-        if stacked.shape[-2:] != (self.image_size, self.image_size):
-            stacked = F.interpolate(stacked, size=(self.image_size, self.image_size), mode="bilinear",
-                                    antialias=True, align_corners=False)
-        return stacked
+        """Selected cameras, each (3, H, W) uint8 or float in [0, 1] -> (K, 3, S, S) float."""
+        return resize_images(torch.stack([as_unit_float(frame[camera_key(c)]) for c in self.cameras]),
+                             self.image_size)
 
     def state(self, frame: dict) -> torch.Tensor:
         parts = [self.normalizer.normalize(STATE_KEYS[s], torch.as_tensor(frame[STATE_KEYS[s]]))

@@ -10,6 +10,8 @@ import numpy as np
 from lerobot.datasets.lerobot_dataset import LeRobotDataset
 
 from mobilemani_data import schema
+from mobilemani_data.frame import rotation_6d
+from mobilemani_rl.rotations import quat_from_euler
 from mobilemani_vla.config import ROBOT_ACTION_DIMS
 
 TASKS = ("open box", "pick cracker box", "open washing_machine")
@@ -42,8 +44,9 @@ def write_synthetic_dataset(root: Path, robot: str = "g1", episodes: int = 1, le
                      for k, (c, m) in enumerate((c, m) for c in schema.CAMERAS for m in schema.MODALITIES)}
             frame.update({
                 schema.STATE: np.concatenate([np.full(12, phase), np.zeros(hand)]).astype(np.float32),
-                schema.WRIST_POSE_BASE: np.array([0.4 + 0.2 * phase, 0.1, 0.8 - 0.1 * phase, 0.0, phase, 0.0],
-                                                 np.float32),
+                schema.WRIST_POSE_BASE: np.concatenate(
+                    [[0.4 + 0.2 * phase, 0.1, 0.8 - 0.1 * phase], rotation_6d(quat_from_euler(np.array([0.0, phase, 0.0])))]
+                ).astype(np.float32),
                 schema.GRASP_POINT_BASE: offset,
                 schema.GOAL_POINT_BASE: offset + np.float32(0.1),
                 schema.ACTION: wave,

@@ -11,6 +11,7 @@ from __future__ import annotations
 
 import json
 import os
+import time
 from dataclasses import asdict, dataclass
 from pathlib import Path
 
@@ -18,23 +19,26 @@ import hydra
 import torch
 from accelerate import Accelerator
 from accelerate.utils import set_seed
+from diffusers.optimization import get_scheduler
 from omegaconf import DictConfig
+from torch.optim.swa_utils import AveragedModel
 from torch.utils.data import DataLoader
 from tqdm import tqdm
 
-from mobilemani_data import schema
 from mobilemani_vla.checkpoint import (
     checkpoint_dir,
     checkpoint_step,
     finished_checkpoints,
+    load_ema,
     publish,
     save_artifacts,
 )
 from mobilemani_vla.config import VLACfg, vla_cfg_from_hydra, vla_cfg_from_yaml
-from mobilemani_vla.data import dataset_tasks, open_dataset
+from mobilemani_vla.data import fit_normalizer, open_data, open_metadata
+from mobilemani_vla.diagnostics import diagnose, heldout_batch
 from mobilemani_vla.model import MobileManiVLA, build_model
-from mobilemani_vla.normalizer import QuantileNormalizer
-from mobilemani_vla.processor import STATE_KEYS, VLAProcessor
+from mobilemani_vla.normalizer import Normalizer
+from mobilemani_vla.processor import VLAProcessor
 from mobilemani_vla.tokenizer import load_tokenizer
 
 
@@ -65,6 +69,31 @@ def _resume_point(cfg: VLACfg, output_dir: Path) -> Path | None:
     return found[-1]
 
 
+def _load_resume_artifacts(resume_from: Path | None, cfg: VLACfg, tasks: list[str]):
+    """The tokenizer (and normaliser) a resumed run keeps; a new run builds its tokenizer."""
+    if resume_from is not None:
+        return load_tokenizer(resume_from / "tokenizer"), Normalizer.load(resume_from / "normalizer.json")
+    return load_tokenizer(cfg.model.tokenizer_path, tasks), None
+
+
+def ema_update(decay: float):
+    """EMA step with the usual warm-up, decay min(decay, (1 + n) / (10 + n)) after n updates, so a short run's
+    average is not dominated by its random initial weights."""
+
+    def update(average: torch.Tensor, current: torch.Tensor, n: torch.Tensor) -> torch.Tensor:
+        d = min(decay, (1.0 + float(n)) / (10.0 + float(n)))
+        return d * average + (1.0 - d) * current
+
+    return update
+
+
+def _trim_log(path: Path, step: int) -> None:
+    """Drop diagnostics a killed run wrote after the checkpoint it resumes from."""
+    if path.is_file():
+        lines = [line for line in path.read_text().splitlines() if json.loads(line)["step"] <= step]
+        path.write_text("".join(line + "\n" for line in lines))
+
+
 def train(cfg: VLACfg) -> TrainResult:
     os.environ.setdefault("WANDB_MODE", "offline")
     output_dir = Path(cfg.train.output_dir)
@@ -76,39 +105,59 @@ def train(cfg: VLACfg) -> TrainResult:
         raise ValueError(f"train.batch_size={cfg.train.batch_size} must split evenly over "
                          f"{accelerator.num_processes} processes")
 
-    dataset = open_dataset(cfg)
     resume_from = _resume_point(cfg, output_dir)
-    if resume_from is not None:  # tokenizer and normaliser stay those the weights were trained with
-        tokenizer = load_tokenizer(resume_from / "tokenizer")
-        normalizer = QuantileNormalizer.load(resume_from / "normalizer.json")
-    else:
-        tokenizer = load_tokenizer(cfg.model.tokenizer_path, dataset_tasks(dataset))
-        keys = [schema.ACTION_BASE] + [STATE_KEYS[s] for s in cfg.inputs.states]
-        normalizer = QuantileNormalizer.from_stats(dataset.meta.stats, keys)
-
+    tokenizer, normalizer = _load_resume_artifacts(resume_from, cfg, sorted(open_metadata(cfg).tasks.index))
     model = build_model(cfg, tokenizer)
     if cfg.train.gradient_checkpointing:
         model.backbone.vlm.gradient_checkpointing_enable()
+    with accelerator.main_process_first():  # one process builds the frame cache
+        data = open_data(cfg, model.backbone.image_size, progress=accelerator.is_local_main_process)
+    if normalizer is None:
+        normalizer = fit_normalizer(data.table, data.table.rows(data.train_episodes), cfg.inputs.states)
     processor = VLAProcessor(tokenizer, normalizer, cfg.inputs.cameras, cfg.inputs.states,
                              model.backbone.image_size, cfg.model.prompt)
-    loader = DataLoader(dataset, batch_size=per_device, shuffle=True, collate_fn=processor,
-                        num_workers=cfg.data.num_workers, drop_last=len(dataset) >= cfg.train.batch_size)
+    loader = DataLoader(data.train, batch_size=per_device, shuffle=True, collate_fn=processor,
+                        num_workers=cfg.data.num_workers, drop_last=len(data.train) >= cfg.train.batch_size)
     optimizer = torch.optim.AdamW(model.parameters(), lr=cfg.train.lr, weight_decay=cfg.train.weight_decay)
-    model, optimizer, loader = accelerator.prepare(model, optimizer, loader)
+    schedule = get_scheduler(cfg.train.lr_schedule, optimizer, num_warmup_steps=cfg.train.warmup_steps,
+                             num_training_steps=cfg.train.steps)
+    model, optimizer, loader, schedule = accelerator.prepare(model, optimizer, loader, schedule)
+    ema = (AveragedModel(accelerator.unwrap_model(model), avg_fn=ema_update(cfg.train.ema_decay))
+           if cfg.train.ema_decay > 0 else None)
 
     start = 0
     if resume_from is not None:
         accelerator.load_state(str(resume_from))
         start = checkpoint_step(resume_from)
+        if ema is not None:
+            load_ema(ema, resume_from)
     accelerator.init_trackers("mobilemani_vla", config=asdict(cfg),
                               init_kwargs={"wandb": {"name": cfg.name, "dir": str(output_dir)}})
+    diagnostics_log = output_dir / "diagnostics.jsonl"
+    diagnose_batch = None
+    if accelerator.is_main_process and cfg.train.diagnose_every > 0 and data.heldout is not None:
+        _trim_log(diagnostics_log, start)
+        diagnose_batch = {k: v.to(accelerator.device) for k, v in
+                          heldout_batch(data.heldout, cfg.train.diagnose_frames, processor).items()}
+
+    def evaluated_model() -> MobileManiVLA:
+        return ema.module if ema is not None else accelerator.unwrap_model(model)
+
+    def run_diagnostics(at: int) -> None:
+        if diagnose_batch is None:
+            return
+        values = diagnose(evaluated_model(), diagnose_batch, cfg.train.diagnose_cfg_scales)
+        accelerator.log({f"diag/{k}": v for k, v in values.items()}, step=at)
+        with diagnostics_log.open("a") as f:
+            f.write(json.dumps({"step": at, **values}) + "\n")
+        bar.write(f"step {at} held-out: " + " ".join(f"{k}={v:.4f}" for k, v in values.items()))
 
     def save(at: int) -> Path:
         final = checkpoint_dir(output_dir, at)
         tmp = final.with_name(f".tmp_{final.name}")
         accelerator.save_state(str(tmp))  # collective: every process takes part
         if accelerator.is_main_process:
-            save_artifacts(tmp, cfg, accelerator.unwrap_model(model), normalizer, tokenizer, at)
+            save_artifacts(tmp, cfg, accelerator.unwrap_model(model), normalizer, tokenizer, at, ema)
             publish(tmp, final, cfg.train.keep_checkpoints)
         accelerator.wait_for_everyone()
         return final
@@ -118,26 +167,36 @@ def train(cfg: VLACfg) -> TrainResult:
     batches = _batches(loader)
     bar = tqdm(range(start, cfg.train.steps), initial=start, total=cfg.train.steps, desc="vla",
                disable=not (cfg.train.progress and accelerator.is_local_main_process))
+    clock = time.perf_counter()
     for step in bar:
         loss = model(next(batches))
         accelerator.backward(loss)
         if cfg.train.grad_clip > 0:
             accelerator.clip_grad_norm_(model.parameters(), cfg.train.grad_clip)
         optimizer.step()
+        schedule.step()
         optimizer.zero_grad(set_to_none=True)
+        if ema is not None:
+            ema.update_parameters(accelerator.unwrap_model(model))
         losses.append(loss.item())
         done = step + 1
         if done % cfg.train.log_every == 0:
             mean = accelerator.reduce(loss.detach(), reduction="mean").item()
-            accelerator.log({"train/loss": mean}, step=done)
-            bar.set_postfix(loss=f"{mean:.4f}")
+            rate = cfg.train.log_every * cfg.train.batch_size / (time.perf_counter() - clock)
+            accelerator.log({"train/loss": mean, "train/lr": schedule.get_last_lr()[0],
+                             "train/samples_per_s": rate}, step=done)
+            bar.set_postfix(loss=f"{mean:.4f}", samples_per_s=f"{rate:.1f}")
+            clock = time.perf_counter()
+        if cfg.train.diagnose_every > 0 and done % cfg.train.diagnose_every == 0:
+            run_diagnostics(done)
         if done % cfg.train.save_every == 0 and done < cfg.train.steps:
             save(done)
     final = save(cfg.train.steps) if start < cfg.train.steps else resume_from
     accelerator.end_training()
     if accelerator.is_main_process:
         (output_dir / "last_run.json").write_text(json.dumps({"checkpoint": str(final), "losses": losses}))
-    return TrainResult(losses, final, accelerator.unwrap_model(model), processor)
+        print(f"checkpoint: {final}", flush=True)
+    return TrainResult(losses, final, evaluated_model(), processor)
 
 
 @hydra.main(config_path="../conf", config_name="vla", version_base="1.3")

@@ -1,0 +1,54 @@
+"""Held-out diagnostics that tell whether the VLA uses its images and how well it predicts actions.
+
+- Noise-prediction error with paired noise and timesteps: with the real cognition feature, with the learned null
+  vector in its place (the classifier-free-guidance "unconditional" input), and without the state feature. If the
+  first is not clearly below the second, the action head ignores what the backbone sees.
+- Open-loop action error: DDIM-sampled chunks (clipped to [-1, 1] as when executed) against the recorded ones
+  (normalised units, whole chunk and first step), for each classifier-free-guidance scale asked for.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import torch
+import torch.nn.functional as F
+
+from mobilemani_vla.model import MobileManiVLA
+
+SEED = 0  # fixed noise and timesteps, so successive diagnostics are comparable
+
+
+def heldout_batch(dataset, frames: int, collate) -> dict[str, torch.Tensor]:
+    """A fixed, evenly spaced choice of `frames` held-out frames, collated."""
+    picks = np.unique(np.linspace(0, len(dataset) - 1, num=min(frames, len(dataset))).round().astype(int))
+    return collate([dataset[int(i)] for i in picks])
+
+
+@torch.no_grad()
+def diagnose(model: MobileManiVLA, batch: dict[str, torch.Tensor], cfg_scales: list[float]) -> dict[str, float]:
+    was_training = model.training
+    model.eval()
+    head, actions = model.head, batch["actions"]
+    cognition, state = model.condition(batch)
+    generator = torch.Generator(device=actions.device).manual_seed(SEED)
+    t = torch.randint(0, head.cfg.train_timesteps, (actions.shape[0],), generator=generator, device=actions.device)
+    noise = torch.randn(actions.shape, generator=generator, device=actions.device)
+    noisy = head.scheduler.add_noise(actions, noise, t)
+
+    def noise_error(use_state: bool, null: bool) -> float:
+        drop = torch.ones(actions.shape[0], dtype=torch.bool, device=actions.device) if null else None
+        pred = head.dit(noisy, t, cognition, state if use_state else None, drop)
+        return F.mse_loss(pred.float(), noise).item()
+
+    out = {"noise_mse/image": noise_error(True, False)}
+    if head.guided:
+        out["noise_mse/null_image"] = noise_error(True, True)
+    if state is not None:
+        out["noise_mse/no_state"] = noise_error(False, False)
+    for scale in cfg_scales:
+        sampled = head.sample(cognition, state, model.action_dim, torch.Generator(device=actions.device)
+                              .manual_seed(SEED), cfg_scale=scale).clamp(-1.0, 1.0)  # as executed
+        out[f"open_loop_mse/cfg_{scale:g}"] = F.mse_loss(sampled.float(), actions).item()
+        out[f"open_loop_mse_first/cfg_{scale:g}"] = F.mse_loss(sampled[:, 0].float(), actions[:, 0]).item()
+    model.train(was_training)
+    return out
