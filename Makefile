@@ -96,17 +96,36 @@ data: setup
 bench-data: setup
 	$(PY) -m mobilemani_data.bench robot=$(ROBOT)
 
-# The whole chain at small scale (about 25 minutes on 2 cores): a PPO teacher for g1 opening test/box, a dataset
-# from it in three train rooms, a tiny VLA, closed-loop evaluation of both in unseen rooms, tables and a report.
+# The CPU VLA recipe (docs/results/vla_cpu_recipe.md): 120 scripted-teacher episodes of g1 on test/box in 12 train
+# rooms, the cpu model trained ~75 min on 2 cores, then 40 closed-loop episodes in the 4 unseen test rooms.
+#   make recipe [RECIPE_SKILL=open|close RECIPE_STEPS=3000]
+RECIPE ?= runs/recipe
+RECIPE_SKILL ?= open
+RECIPE_STEPS ?= 3000
+RECIPE_DIR = $(RECIPE)/$(RECIPE_SKILL)
+.PHONY: recipe
+recipe: setup
+	$(MAKE) data ROBOT=g1 SUBSET=recipe TEACHER=scripted DATA_ARGS="data_dir=$(RECIPE_DIR)/data \
+		subset.skills=[$(RECIPE_SKILL)] export.width=128 export.height=128 export.vcodec=h264"
+	$(MAKE) vla ROBOT=g1 VLA_ARGS="vla/model=cpu vla/train=cpu name=recipe_$(RECIPE_SKILL) \
+		data.root=$(RECIPE_DIR)/data/lerobot train.output_dir=$(RECIPE_DIR)/vla train.steps=$(RECIPE_STEPS)"
+	$(MAKE) eval ROBOT=g1 POLICY=vla PROTOCOL=recipe NAME=vla_$(RECIPE_SKILL) \
+		CHECKPOINT=$(RECIPE_DIR)/vla/checkpoints/step_$(shell printf %08d $(RECIPE_STEPS)) \
+		EVAL_ARGS="output_dir=$(RECIPE)/eval subset.skills=[$(RECIPE_SKILL)] video_episodes=1"
+
+# The whole chain at small scale (about 30 minutes on 2 cores): a PPO teacher for g1 opening test/box, 48 episodes from
+# it in eight train rooms (128 px, H.264), the CPU recipe's VLA (vla/model=cpu vla/train=cpu, DEMO_VLA_STEPS steps),
+# closed-loop evaluation of both over 20 episodes in the four unseen test rooms, tables and a report.
 # Every stage resumes or skips finished work, so a rerun after an interruption continues.
 DEMO ?= runs/demo
-DEMO_VLA_STEPS ?= 600
+DEMO_VLA_STEPS ?= 400
 demo: setup
 	$(MAKE) rl ROBOT=g1 OBJECT=test/box SKILL=open RL_ARGS="run_dir=$(DEMO)/rl/g1/test/box/open rl.ppo.max_iterations=300"
-	$(MAKE) data ROBOT=g1 SUBSET=demo TEACHER=ppo \
-		DATA_ARGS="data_dir=$(DEMO)/data teacher.runs_dir=$(DEMO)/rl export.width=224 export.height=224"
-	$(MAKE) vla ROBOT=g1 VLA_ARGS="name=demo data.root=$(DEMO)/data/lerobot train.output_dir=$(DEMO)/vla \
-		train.steps=$(DEMO_VLA_STEPS) train.save_every=$(DEMO_VLA_STEPS) train.lr=3e-4 train.logger=none"
+	$(MAKE) data ROBOT=g1 SUBSET=demo TEACHER=ppo DATA_ARGS="data_dir=$(DEMO)/data teacher.runs_dir=$(DEMO)/rl \
+		export.width=128 export.height=128 export.vcodec=h264"
+	$(MAKE) vla ROBOT=g1 VLA_ARGS="name=demo vla/model=cpu vla/train=cpu data.root=$(DEMO)/data/lerobot \
+		data.heldout_episodes=2 train.output_dir=$(DEMO)/vla train.steps=$(DEMO_VLA_STEPS) train.warmup_steps=50 \
+		train.save_every=$(DEMO_VLA_STEPS) train.diagnose_every=$(DEMO_VLA_STEPS) train.logger=none"
 	$(MAKE) eval ROBOT=g1 POLICY=teacher PROTOCOL=demo NAME=teacher \
 		EVAL_ARGS="output_dir=$(DEMO)/eval policy.runs_dir=$(DEMO)/rl episodes_per_batch=5"
 	$(MAKE) eval ROBOT=g1 POLICY=vla PROTOCOL=demo NAME=vla CHECKPOINT=$(DEMO)/vla/checkpoints/step_$(shell printf %08d $(DEMO_VLA_STEPS)) \

@@ -6,7 +6,9 @@ train: samples/s of one optimisation step (backbone + DiT forward/backward with 
 AdamW), on synthetic batches so that video decoding is not measured. infer: seconds per action chunk for one
 observation (backbone pass + 10 DDIM steps, guidance on). Best of the timed repeats, after one warm-up.
 Also counts the parameters of every model config (paligemma2_3b on the meta device, no weights).
-Prints a table and JSON.
+With `--dataset ROOT` (a MobileManiDataset), it also measures end-to-end training samples/s on that dataset
+(loading + step) with the decoded-frame cache and without it (LeRobot decoding the videos per sample), in the same
+run. Prints a table and JSON.
 """
 
 from __future__ import annotations
@@ -21,7 +23,9 @@ import torch
 from hydra import compose, initialize_config_dir
 
 from mobilemani_vla.config import CAMERAS, VLACfg, vla_cfg_from_hydra
+from mobilemani_vla.data import fit_normalizer, open_data
 from mobilemani_vla.model import MobileManiVLA, build_model
+from mobilemani_vla.processor import STATE_DIMS, VLAProcessor
 from mobilemani_vla.tokenizer import build_word_tokenizer
 
 CONF = str(Path(__file__).resolve().parents[1] / "conf")
@@ -45,7 +49,7 @@ def synthetic_batch(model: MobileManiVLA, cfg: VLACfg, batch: int) -> dict[str, 
     enc = tokenizer([cfg.model.prompt.format(instruction="open washing machine")] * batch, return_tensors="pt")
     return {"pixel_values": torch.rand(batch, len(cfg.inputs.cameras), 3, size, size),
             "input_ids": enc["input_ids"], "attention_mask": enc["attention_mask"],
-            "state": torch.rand(batch, 6) * 2 - 1,
+            "state": torch.rand(batch, sum(STATE_DIMS[s] for s in cfg.inputs.states)) * 2 - 1,
             "actions": torch.rand(batch, cfg.diffusion.chunk, cfg.action_dim) * 2 - 1}
 
 
@@ -83,6 +87,37 @@ def bench(name: str, batch: int, steps: int, runs: int, cameras: int) -> dict:
             "ddim_steps": cfg.diffusion.ddim_steps, "threads": torch.get_num_threads()}
 
 
+def bench_dataset(root: str, name: str, batch: int, steps: int) -> list[dict]:
+    """Training samples/s on a real dataset, with and without the frame cache (same model, same batches size)."""
+    out = []
+    for cache in (False, True):
+        cfg = compose_cfg([f"vla/model={name}", f"data.root={root}", f"data.cache={str(cache).lower()}",
+                           "data.heldout_episodes=0"])
+        torch.manual_seed(0)
+        data = open_data(cfg, cfg.model.vision.image_size, progress=False)  # builds the cache if it is missing
+        tokenizer = build_word_tokenizer(data.tasks)
+        model = build_model(cfg, tokenizer)
+        processor = VLAProcessor(tokenizer, fit_normalizer(data.table, data.table.rows(data.train_episodes),
+                                                           cfg.inputs.states),
+                                 cfg.inputs.cameras, cfg.inputs.states, model.backbone.image_size, cfg.model.prompt)
+        loader = iter(torch.utils.data.DataLoader(data.train, batch_size=batch, shuffle=True, collate_fn=processor))
+        optimizer = torch.optim.AdamW(model.parameters(), lr=cfg.train.lr)
+        next(loader)
+        start = time.perf_counter()
+        for _ in range(steps):
+            model(next(loader)).backward()
+            optimizer.step()
+            optimizer.zero_grad(set_to_none=True)
+        train = steps * batch / (time.perf_counter() - start)
+        start = time.perf_counter()
+        for _ in range(steps):
+            next(loader)
+        load = steps * batch / (time.perf_counter() - start)
+        out.append({"model": name, "cache": cache, "batch": batch, "steps": steps,
+                    "train_samples_per_s": train, "load_only_samples_per_s": load})
+    return out
+
+
 def meta_counts() -> dict:
     cfg = compose_cfg(["vla/model=paligemma2_3b", "model.pretrained_path=null", "model.tokenizer_path=null"])
     with torch.device("meta"):
@@ -97,15 +132,21 @@ def main() -> None:
     parser.add_argument("--steps", type=int, default=3, help="timed training steps per model")
     parser.add_argument("--runs", type=int, default=3, help="timed inference calls per model")
     parser.add_argument("--cameras", type=int, default=4, choices=range(1, 5))
+    parser.add_argument("--dataset", help="a MobileManiDataset root: also time training on it, cache on and off")
+    parser.add_argument("--dataset-model", default="cpu", help="model config for --dataset")
     args = parser.parse_args()
     results = [bench(m, args.batch, args.steps, args.runs, args.cameras) for m in args.models]
+    on_data = bench_dataset(args.dataset, args.dataset_model, args.batch, args.steps) if args.dataset else []
     big = meta_counts()
     print(f"{'model':<14}{'img tok':>8}{'dit':>4}{'params (M)':>12}{'train samples/s':>17}{'infer s/chunk':>15}")
     for r in results:
         print(f"{r['model']:<14}{r['image_tokens']:>8}{r['dit']:>4}{r['params']['total'] / 1e6:>12.2f}"
               f"{r['train_samples_per_s']:>17.2f}{r['infer_s_per_chunk']:>15.3f}")
     print(f"{big['model']:<14}{'':>8}{'B':>4}{big['params']['total'] / 1e6:>12.1f}{'(meta, not run)':>32}")
-    print(json.dumps({"cpu": results, "meta": big}, indent=1))
+    for r in on_data:
+        print(f"{args.dataset} ({r['model']}, frame cache {'on' if r['cache'] else 'off'}): "
+              f"{r['train_samples_per_s']:.1f} training samples/s, {r['load_only_samples_per_s']:.1f} loaded samples/s")
+    print(json.dumps({"cpu": results, "meta": big, "dataset": on_data}, indent=1))
 
 
 if __name__ == "__main__":

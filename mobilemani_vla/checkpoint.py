@@ -5,6 +5,7 @@
     config.yaml          the VLACfg
     backbone_config.json the PaliGemma config, so reloading needs no pretrained directory
     normalizer.json      per-dimension bounds of actions and states (training split)
+    dataset.json         the training dataset: root, episodes, recorded image size (height, width)
     tokenizer/           the tokenizer
     trainer_state.json   the step
 """
@@ -27,12 +28,15 @@ from mobilemani_vla.tokenizer import load_tokenizer
 
 WEIGHTS = "model.safetensors"
 EMA_WEIGHTS = "ema.safetensors"
+DATASET = "dataset.json"
 STATE = "trainer_state.json"
 PREFIX = "step_"
 
 
 def save_artifacts(directory: Path, cfg: VLACfg, model: MobileManiVLA, normalizer: Normalizer,
-                   tokenizer: PreTrainedTokenizerBase, step: int, ema: AveragedModel | None = None) -> None:
+                   tokenizer: PreTrainedTokenizerBase, step: int, dataset: dict, ema: AveragedModel | None = None
+                   ) -> None:
+    (directory / DATASET).write_text(json.dumps(dataset, indent=1))
     if ema is not None:
         save_model(ema, str(directory / EMA_WEIGHTS))
     (directory / "config.yaml").write_text(vla_cfg_to_yaml(cfg))
@@ -65,6 +69,12 @@ def publish(tmp: Path, final: Path, keep: int) -> None:
 
 def checkpoint_step(directory: Path) -> int:
     return json.loads((directory / STATE).read_text())["step"]
+
+
+def recorded_image_size(directory: str | Path) -> tuple[int, int] | None:
+    """(height, width) of the training dataset's images, when the checkpoint recorded it."""
+    path = Path(directory) / DATASET
+    return tuple(json.loads(path.read_text())["image_size"]) if path.is_file() else None
 
 
 def load_ema(ema: AveragedModel, directory: Path) -> None:

@@ -86,18 +86,20 @@ class DataCfg:
 
 @dataclass
 class TrainCfg:
-    batch_size: int = 8  # global batch, split over processes
-    steps: int = 1000
-    lr: float = 2e-5
-    lr_schedule: str = "constant"  # a diffusers.optimization schedule name: constant, cosine, linear, ...
-    warmup_steps: int = 0
-    weight_decay: float = 0.0
-    ema_decay: float = 0.0  # > 0: an exponential moving average of the weights, saved and used for evaluation
+    """Defaults = the CPU recipe (conf/vla/train/cpu.yaml); conf/vla/train/paper.yaml is CogACT's setting."""
+
+    batch_size: int = 32  # global batch, split over processes
+    steps: int = 6000
+    lr: float = 3e-4
+    lr_schedule: str = "cosine"  # a diffusers.optimization schedule name: constant, cosine, linear, ...
+    warmup_steps: int = 200
+    weight_decay: float = 0.01
+    ema_decay: float = 0.999  # > 0: an exponential moving average of the weights, saved and used for evaluation
     grad_clip: float = 1.0
     mixed_precision: str = "no"  # "bf16" on GPUs
     gradient_checkpointing: bool = False
     log_every: int = 10
-    diagnose_every: int = 0  # > 0: held-out diagnostics (noise error with image vs null feature, open-loop error)
+    diagnose_every: int = 500  # > 0: held-out diagnostics (noise error with image vs null feature, open-loop error)
     diagnose_frames: int = 64  # held-out frames the diagnostics use (a fixed, evenly spaced choice)
     diagnose_cfg_scales: list[float] = field(default_factory=lambda: [1.0, 1.5])  # open-loop error per scale
     save_every: int = 500

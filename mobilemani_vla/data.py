@@ -128,6 +128,11 @@ class VLAData:
     def tasks(self) -> list[str]:
         return sorted(self.meta.tasks.index)
 
+    @property
+    def image_size(self) -> list[int]:
+        """(height, width) the dataset's images were rendered at."""
+        return list(self.meta.features[self.meta.video_keys[0]]["shape"][:2])
+
 
 def _decoded_frames(cfg: VLACfg, fps: int, episodes: np.ndarray) -> LeRobotDataset:
     deltas = {schema.ACTION_BASE: [i / fps for i in range(cfg.diffusion.chunk)]}

@@ -21,6 +21,9 @@ class PolicyCfg:
     rename: dict[str, str] = field(default_factory=dict)  # lerobot: our feature name -> the policy's
 
 
+DEFAULT_IMAGE_SIZE = (224, 224)
+
+
 @dataclass
 class EvalCfg:
     robot: str = "g1"
@@ -32,7 +35,9 @@ class EvalCfg:
     seed: int = 0  # mixed with (robot, object, skill, scene, block) into each batch's env seed
     ensemble: EnsembleCfg = field(default_factory=EnsembleCfg)
     action_convention: str = "conjugate"  # base-frame action encoding of the training data (base_frame.Convention)
-    image_size: list[int] = field(default_factory=lambda: [224, 224])  # rendered (height, width)
+    # Rendered (height, width); null: the size the policy's training images had (VLA checkpoints record it), else
+    # DEFAULT_IMAGE_SIZE.
+    image_size: list[int] | None = None
     video_episodes: int = 0  # head-camera MP4s of the first k episodes of each combination
     env: EnvCfg = field(default_factory=EnvCfg)
 

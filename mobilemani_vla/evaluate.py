@@ -27,7 +27,7 @@ from mobilemani_rl.envs.mobilemani_env import MobileManiEnv
 from mobilemani_rl.eval import HeadCameraRecorder
 from mobilemani_rl.rl.run_dir import write_json_atomic
 from mobilemani_rl.tasks import Combination, recording_env_cfg, select_combinations
-from mobilemani_vla.eval_config import EvalCfg, eval_cfg_from_hydra
+from mobilemani_vla.eval_config import DEFAULT_IMAGE_SIZE, EvalCfg, eval_cfg_from_hydra
 from mobilemani_vla.harness import run_batch
 from mobilemani_vla.policies.base import EvalPolicy
 from mobilemani_vla.policies.factory import build_policy
@@ -49,7 +49,8 @@ def evaluate_block(cfg: EvalCfg, policy: EvalPolicy, combo: Combination, block: 
                                           size, seed))
     recorder = HeadCameraRecorder(env, cfg.video_episodes - block * size) \
         if cfg.video_episodes > block * size else None
-    stats = run_batch(env, policy, seed, combo.instruction, cfg.ensemble, tuple(cfg.image_size),
+    image_size = tuple(cfg.image_size or policy.image_size or DEFAULT_IMAGE_SIZE)
+    stats = run_batch(env, policy, seed, combo.instruction, cfg.ensemble, image_size,
                       cfg.action_convention, recorder)
     if recorder is not None:
         recorder.write(run_dir(cfg) / "videos" / cfg.split_name / combo.name.replace("/", "_") / f"block_{block}")

@@ -22,7 +22,8 @@ def run_batch(env: MobileManiEnv, policy: EvalPolicy, seed: int, instruction: st
               image_size: tuple[int, int] = (224, 224), convention: Convention = "conjugate",
               on_step: Callable[[StepResult], None] | None = None) -> EpisodeStats:
     """Reset `env` with `seed` and run the first episode of each of its envs under `policy`."""
-    builder = ObservationBuilder(env, policy.inputs, instruction, *image_size)
+    height, width = image_size
+    builder = ObservationBuilder(env, policy.inputs, instruction, width, height)
     executor = ChunkExecutor(ensemble, env.num_envs)
     active = np.ones(env.num_envs, dtype=bool)
 

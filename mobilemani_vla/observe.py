@@ -30,7 +30,9 @@ class ObservationBuilder:
         self.images = sorted(inputs & IMAGE_KEYS.keys())
         mj_cameras = robot_cameras(env.robot)
         self.cameras = {camera: mj_cameras[camera] for camera in sorted({IMAGE_KEYS[k][0] for k in self.images})}
-        self.renderer = CameraRenderer(env.model, CameraRenderCfg(width, height, tuple(self.cameras.values()))) \
+        segmentation = any(IMAGE_KEYS[k][1] == "seg" for k in self.images)
+        self.renderer = CameraRenderer(env.model, CameraRenderCfg(width, height, tuple(self.cameras.values()),
+                                                                  segmentation=segmentation)) \
             if self.cameras else None
         self.width, self.height = width, height
         self.grasp0 = np.zeros((env.num_envs, 3))

@@ -116,6 +116,8 @@ def train(cfg: VLACfg) -> TrainResult:
         normalizer = fit_normalizer(data.table, data.table.rows(data.train_episodes), cfg.inputs.states)
     processor = VLAProcessor(tokenizer, normalizer, cfg.inputs.cameras, cfg.inputs.states,
                              model.backbone.image_size, cfg.model.prompt)
+    dataset_info = {"root": cfg.data.root, "train_episodes": data.train_episodes.tolist(),
+                    "heldout_episodes": data.heldout_episodes.tolist(), "image_size": data.image_size}
     loader = DataLoader(data.train, batch_size=per_device, shuffle=True, collate_fn=processor,
                         num_workers=cfg.data.num_workers, drop_last=len(data.train) >= cfg.train.batch_size)
     optimizer = torch.optim.AdamW(model.parameters(), lr=cfg.train.lr, weight_decay=cfg.train.weight_decay)
@@ -157,7 +159,7 @@ def train(cfg: VLACfg) -> TrainResult:
         tmp = final.with_name(f".tmp_{final.name}")
         accelerator.save_state(str(tmp))  # collective: every process takes part
         if accelerator.is_main_process:
-            save_artifacts(tmp, cfg, accelerator.unwrap_model(model), normalizer, tokenizer, at, ema)
+            save_artifacts(tmp, cfg, accelerator.unwrap_model(model), normalizer, tokenizer, at, dataset_info, ema)
             publish(tmp, final, cfg.train.keep_checkpoints)
         accelerator.wait_for_everyone()
         return final

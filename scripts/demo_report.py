@@ -60,8 +60,15 @@ def vla_section(demo: Path, out: Path) -> list[str]:
     fig.savefig(out / "vla_loss.png", dpi=120)
     plt.close(fig)
     start, end = losses[: max(1, window)].mean(), losses[-window:].mean()
-    return ["## 3. MobileManiVLA (tiny config, CPU)", "",
-            f"- {len(losses)} training steps; loss {start:.3f} -> {end:.3f}", "", "![VLA loss](vla_loss.png)", ""]
+    lines = ["## 3. MobileManiVLA (cpu recipe, CPU)", "",
+             f"- {len(losses)} training steps; loss {start:.3f} -> {end:.3f}"]
+    diagnostics = demo / "vla" / "diagnostics.jsonl"
+    if diagnostics.is_file():
+        last = json.loads(diagnostics.read_text().splitlines()[-1])
+        lines.append(f"- held-out noise error at step {last['step']}: {last['noise_mse/image']:.4f} with the image "
+                     f"feature, {last.get('noise_mse/null_image', float('nan')):.4f} with the null vector "
+                     "(lower with the image: the action head uses what the cameras see)")
+    return lines + ["", "![VLA loss](vla_loss.png)", ""]
 
 
 def eval_section(demo: Path, out: Path) -> list[str]:

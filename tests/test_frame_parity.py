@@ -1,4 +1,5 @@
-"""Training inputs equal evaluation inputs: a collected, exported episode against the closed-loop observer.
+"""Training inputs equal evaluation inputs: a collected, exported episode against the closed-loop observer; the
+state encoding the VLA learns from (continuous rotations, global bounds that clip nothing).
 
 The scripted teacher collects one episode through the real collection pipeline while the evaluator's
 ObservationBuilder watches the same env at every step; the episode is then exported through the real exporter.
@@ -21,6 +22,9 @@ from mobilemani_data import schema
 from mobilemani_data.collect import collect
 from mobilemani_data.export import export
 from mobilemani_data.teachers import Teacher, build_teacher
+from mobilemani_vla.config import STATES, InputsCfg, VLACfg
+from mobilemani_vla.config import DataCfg as VLADataCfg
+from mobilemani_vla.data import fit_normalizer, open_data
 from mobilemani_vla.observe import IMAGE_KEYS, ObservationBuilder
 from mobilemani_vla.policies.base import ACTIVE, TASK
 
@@ -81,3 +85,20 @@ def test_exported_images_match_the_observers_within_codec_error(recorded):
             assert live.std() > 0, f"{key} frame {i} is blank"
             error = np.abs(decoded - live)
             assert error.mean() < 4.0 and np.percentile(error, 99) < 40.0, f"{key} frame {i}: {error.mean():.2f}"
+
+
+def test_state_encoding_is_continuous_and_unclipped(recorded):
+    """The wrist rotation has no wrap (6D, unit columns, smooth along the episode) and the project's global
+    normalisation bounds clip < 1% of the training values of every state and action dimension."""
+    dataset, _, _ = recorded
+    cfg = VLACfg(data=VLADataCfg(root=str(dataset.root), repo_id=dataset.repo_id, heldout_episodes=0),
+                 inputs=InputsCfg(cameras=["head_rgb"], states=list(STATES)))
+    data = open_data(cfg, 32, progress=False)
+    rows = data.table.rows(data.train_episodes)
+    normalizer = fit_normalizer(data.table, rows, cfg.inputs.states)
+    for key in normalizer.bounds:
+        assert normalizer.clipped_fraction(key, data.table.columns[key][rows]) < 0.01, key
+    pose = data.table.columns[schema.WRIST_POSE_BASE][rows]
+    np.testing.assert_allclose(np.linalg.norm(pose[:, 3:6], axis=1), 1.0, atol=1e-5)
+    np.testing.assert_allclose(np.linalg.norm(pose[:, 6:9], axis=1), 1.0, atol=1e-5)
+    assert np.abs(np.diff(pose, axis=0)).max() < 0.1  # one control step moves the wrist a few mm / degrees

@@ -10,17 +10,18 @@ from hydra import compose, initialize_config_dir
 
 from mobilemani_data import schema
 from mobilemani_vla.config import STATES, VLACfg, vla_cfg_from_hydra
-from mobilemani_vla.data import open_dataset
+from mobilemani_vla.data import fit_normalizer, open_data
+from mobilemani_vla.frame_cache import cache_dir
 from mobilemani_vla.model import build_model
-from mobilemani_vla.normalizer import QuantileNormalizer
 from mobilemani_vla.policy import FULL_STATE_DIM, VLAPolicy
-from mobilemani_vla.processor import VLAProcessor
+from mobilemani_vla.processor import VLAProcessor, resize_images
 from mobilemani_vla.synthetic import write_synthetic_dataset
 from mobilemani_vla.tokenizer import build_word_tokenizer
 from mobilemani_vla.train import train
 
 CONF = str(Path(__file__).resolve().parents[1] / "conf")
 EXPERIMENTS = sorted(p.stem for p in (Path(CONF) / "experiment").glob("ablation_*.yaml"))
+ALIASES = {"ablation_depth": "ablation_image_head_rgbd"}  # the paper's name for that row
 
 
 @pytest.fixture(scope="module")
@@ -29,7 +30,7 @@ def dataset_root(tmp_path_factory) -> Path:
 
 
 def tiny_cfg(root: Path, out: Path, overrides: list[str] = ()) -> VLACfg:
-    base = ["vla/model=tiny", "vla/train=cpu", f"data.root={root}", "data.repo_id=synthetic/g1",
+    base = ["vla/model=tiny", "vla/train=cpu", f"data.root={root}", "data.repo_id=synthetic/g1", "data.heldout_episodes=1",
             f"train.output_dir={out}", "train.logger=none", "train.progress=false", "train.batch_size=4"]
     with initialize_config_dir(config_dir=CONF, version_base="1.3"):
         return vla_cfg_from_hydra(compose(config_name="vla", overrides=[*overrides, *base]))
@@ -37,15 +38,15 @@ def tiny_cfg(root: Path, out: Path, overrides: list[str] = ()) -> VLACfg:
 
 def test_forward_backward_on_a_dataset_batch(dataset_root, tmp_path):
     cfg = tiny_cfg(dataset_root, tmp_path)
-    dataset = open_dataset(cfg)
+    data = open_data(cfg, 32, progress=False)
     tokenizer = build_word_tokenizer()
-    normalizer = QuantileNormalizer.from_stats(dataset.meta.stats, [schema.ACTION_BASE, schema.WRIST_POSE_BASE])
+    normalizer = fit_normalizer(data.table, data.table.rows(data.train_episodes), cfg.inputs.states)
     model = build_model(cfg, tokenizer)
     processor = VLAProcessor(tokenizer, normalizer, cfg.inputs.cameras, cfg.inputs.states, 32, cfg.model.prompt)
-    frames = [dataset[i] for i in (0, 7, 18, 19)]  # the last two run past the episode end
+    frames = [data.train[i] for i in (0, 7, 18, 19)]  # the last two run past the episode end
     batch = processor(frames)
     assert batch["pixel_values"].shape == (4, 4, 3, 32, 32)
-    assert batch["actions"].shape == (4, 16, 7) and batch["state"].shape == (4, 6)
+    assert batch["actions"].shape == (4, 16, 7) and batch["state"].shape == (4, 9)
     assert batch["actions"].abs().max() <= 1.0
     # Padded rows: the normalised zero wrist delta ("hold still"), the last gripper target kept.
     still = normalizer.normalize(schema.ACTION_BASE, torch.zeros(7))
@@ -65,17 +66,17 @@ def test_forward_backward_on_a_dataset_batch(dataset_root, tmp_path):
 @pytest.mark.parametrize("experiment", EXPERIMENTS)
 def test_experiment_configs_compose_and_train(experiment, dataset_root, tmp_path):
     cfg = tiny_cfg(dataset_root, tmp_path, [f"+experiment={experiment}", "train.steps=2"])
-    assert cfg.name == experiment
+    assert cfg.name == ALIASES.get(experiment, experiment)
     with initialize_config_dir(config_dir=CONF, version_base="1.3"):  # alone it is the paper's 3B setting
         paper = compose(config_name="vla", overrides=[f"+experiment={experiment}"])
     assert (paper.model.name, paper.train.batch_size, paper.train.steps) == ("paligemma2_3b", 120, 160000)
     result = train(cfg)
     assert len(result.losses) == 2 and np.isfinite(result.losses).all()
     model = result.model
-    batch = result.processor([open_dataset(cfg)[3]])
+    batch = result.processor([open_data(cfg, 32, progress=False).train[3]])
     tokens = model.backbone.image_tokens(batch["pixel_values"])
     assert tokens.shape[1] == len(cfg.inputs.cameras) * 16  # 32 px / 8 px patches per camera
-    state_dims = {"wrist_pose": 6, "grasp_point": 3, "goal_point": 3}
+    state_dims = {"wrist_pose": 9, "grasp_point": 3, "goal_point": 3}
     expected = sum(state_dims[s] for s in cfg.inputs.states)
     if expected:
         assert model.state_encoder.mlp[0].in_features == expected == batch["state"].shape[1]
@@ -99,16 +100,15 @@ def test_checkpoint_resume_and_policy(dataset_root, tmp_path):
         train(tiny_cfg(dataset_root, tmp_path, ["train.steps=6"]))
 
     policy = VLAPolicy.load(resumed.checkpoint)
-    frame = open_dataset(cfg)[5]
-    images = {c: (frame[f"observation.images.{c}"].permute(1, 2, 0).numpy() * 255).astype(np.uint8)
-              for c in policy.cameras}
+    frame = open_data(cfg, 32, progress=False).train[5]
+    images = {c: frame[f"observation.images.{c}"].permute(1, 2, 0).numpy() for c in policy.cameras}
     state = np.concatenate([frame[schema.WRIST_POSE_BASE], frame[schema.GRASP_POINT_BASE],
                             frame[schema.GOAL_POINT_BASE]])
     assert state.shape == (FULL_STATE_DIM,) and len(STATES) == 3
     chunk = policy.predict_action_chunk(images, "open box", state, torch.Generator().manual_seed(0))
     again = policy.predict_action_chunk(images, "open box", state, torch.Generator().manual_seed(0))
     assert chunk.shape == (16, 7) and np.array_equal(chunk, again)
-    lo, hi = policy.processor.normalizer.quantiles[schema.ACTION_BASE]
+    lo, hi = policy.processor.normalizer.bounds[schema.ACTION_BASE]
     assert np.all(chunk >= lo - 1e-5) and np.all(chunk <= hi + 1e-5)
     # The reloaded weights are the trained ones.
     trained = resumed.model.state_dict()
@@ -126,3 +126,26 @@ def test_overfitting_one_episode(tmp_path):
     start, end = losses[:5].mean(), losses[-50:].mean()
     print("mean loss per 50 steps:", np.round([losses[i:i + 50].mean() for i in range(0, 500, 50)], 3).tolist())
     assert end < 0.1 * start, (start, end)
+
+
+def test_frame_cache_is_built_once_reused_and_rebuilt_when_the_dataset_changes(tmp_path):
+    root = write_synthetic_dataset(tmp_path / "g1", episodes=2, length=12)
+    cfg = tiny_cfg(root, tmp_path / "out", ["data.heldout_episodes=0"])
+    data = open_data(cfg, 32, progress=False)
+    cache = cache_dir(root, cfg.inputs.cameras, 32) / "images.npy"
+    built = cache.stat().st_mtime_ns
+    # Cached frames are the LeRobot-decoded frames resized to the model's input (within uint8 rounding).
+    decoded = open_data(tiny_cfg(root, tmp_path / "out", ["data.heldout_episodes=0", "data.cache=false"]), 32,
+                        progress=False)
+    for i in (0, 5, 23):
+        for camera in cfg.inputs.cameras:
+            key = f"observation.images.{camera}"
+            want = resize_images(decoded.train[i][key][None].float(), 32)[0] * 255.0
+            assert (data.train[i][key].float() - want).abs().max() <= 1.0
+            assert torch.equal(data.train[i]["action_base"], decoded.train[i]["action_base"])
+    open_data(cfg, 32, progress=False)
+    assert cache.stat().st_mtime_ns == built  # reused
+    info = root / "meta" / "info.json"
+    info.write_text(info.read_text())  # any change to the dataset's files invalidates the cache
+    open_data(cfg, 32, progress=False)
+    assert cache.stat().st_mtime_ns != built

@@ -12,6 +12,7 @@ class CameraRenderCfg:
     width: int = 520
     height: int = 520
     cameras: tuple[str, ...] = ("head_camera", "wrist_camera")
+    segmentation: bool = True  # the second (id-colour) pass; off when no segmentation image is wanted
     shadows: bool = False
     multisampling: bool = False
     msaa_samples: int = 4  # used only with multisampling

@@ -23,7 +23,7 @@ class CameraFrame:
     rgb: np.ndarray  # (H, W, 3) uint8
     depth: np.ndarray  # (H, W) float32, ray distance in metres
     depth_image: np.ndarray  # (H, W) uint8, depth clipped to [0, depth_clip] and scaled to 0–255
-    segmentation: np.ndarray  # (H, W) uint8: 0 background, 1 object, 2 robot
+    segmentation: np.ndarray | None  # (H, W) uint8: 0 background, 1 object, 2 robot; None if not rendered
 
 
 def prepare_model(model: mujoco.MjModel, cfg: CameraRenderCfg) -> None:
@@ -83,16 +83,21 @@ class CameraRenderer:
         flags[mujoco.mjtRndFlag.mjRND_SEGMENT] = flags[mujoco.mjtRndFlag.mjRND_IDCOLOR] = False
         mujoco.mjr_render(self._rect, scene, self._context)
         mujoco.mjr_readPixels(self._rgb, self._depth, self._rect, self._context)
-        flags[mujoco.mjtRndFlag.mjRND_SEGMENT] = flags[mujoco.mjtRndFlag.mjRND_IDCOLOR] = True
-        mujoco.mjr_render(self._rect, scene, self._context)
-        mujoco.mjr_readPixels(self._ids, None, self._rect, self._context)
         # GL rows run bottom-up.
         rgb = np.flipud(self._rgb).copy()
         distance = np.flipud(z_depth_from_buffer(self._depth, self._near, self._far)) * self._ray[camera]
+        segmentation = self._segment(scene) if self.cfg.segmentation else None
+        return CameraFrame(rgb, distance, depth_to_uint8(distance, self.cfg.depth_clip), segmentation)
+
+    def _segment(self, scene: mujoco.MjvScene) -> np.ndarray:
+        """The id-colour pass of the scene just rendered -> per-pixel labels."""
+        flags = scene.flags
+        flags[mujoco.mjtRndFlag.mjRND_SEGMENT] = flags[mujoco.mjtRndFlag.mjRND_IDCOLOR] = True
+        mujoco.mjr_render(self._rect, scene, self._context)
+        mujoco.mjr_readPixels(self._ids, None, self._rect, self._context)
         ids = np.flipud(self._ids).astype(np.int32)
         segid = ids[..., 0] | (ids[..., 1] << 8) | (ids[..., 2] << 16)
-        segmentation = segment_labels(scene, self._labels)[np.minimum(segid, scene.ngeom)]
-        return CameraFrame(rgb, distance, depth_to_uint8(distance, self.cfg.depth_clip), segmentation)
+        return segment_labels(scene, self._labels)[np.minimum(segid, scene.ngeom)]
 
     def close(self) -> None:
         if self._gl is not None:

@@ -28,6 +28,7 @@ class EvalPolicy:
     name: str = "policy"
     inputs: frozenset[str] = frozenset()
     action_frame: ActionFrame = "world"
+    image_size: tuple[int, int] | None = None  # (height, width) the policy's images were recorded at, if known
 
     def start(self, env: MobileManiEnv, seed: int) -> None:
         """A new batch of episodes starts in `env` (already reset with `seed`); privileged policies bind to it."""

@@ -8,6 +8,7 @@ import numpy as np
 import torch
 
 from mobilemani_rl.envs.mobilemani_env import MobileManiEnv
+from mobilemani_vla.checkpoint import recorded_image_size
 from mobilemani_vla.config import STATES
 from mobilemani_vla.policies.base import TASK, EvalPolicy, Observation, active_rows, scatter_rows
 from mobilemani_vla.policy import VLAPolicy
@@ -22,6 +23,7 @@ class VLAEvalPolicy(EvalPolicy):
         if not Path(checkpoint, "model.safetensors").is_file():
             raise FileNotFoundError(f"no VLA checkpoint (model.safetensors) in {checkpoint}")
         self.policy = VLAPolicy.load(checkpoint, device)
+        self.image_size = recorded_image_size(checkpoint)  # render as the training data was rendered
         self.batch_size = batch_size
         # States are cheap (no rendering): all three are always built; the model reads its configured ones.
         self.inputs = frozenset({camera_key(c) for c in self.policy.cameras} | {STATE_KEYS[s] for s in STATES}
