@@ -24,6 +24,7 @@ from omegaconf import DictConfig
 from torch.optim.swa_utils import AveragedModel
 from torch.utils.data import DataLoader
 from tqdm import tqdm
+from transformers import PreTrainedTokenizerBase
 
 from mobilemani_vla.checkpoint import (
     checkpoint_dir,
@@ -69,7 +70,8 @@ def _resume_point(cfg: VLACfg, output_dir: Path) -> Path | None:
     return found[-1]
 
 
-def _load_resume_artifacts(resume_from: Path | None, cfg: VLACfg, tasks: list[str]):
+def _load_resume_artifacts(resume_from: Path | None, cfg: VLACfg, tasks: list[str]
+                           ) -> tuple[PreTrainedTokenizerBase, Normalizer | None]:
     """The tokenizer (and normaliser) a resumed run keeps; a new run builds its tokenizer."""
     if resume_from is not None:
         return load_tokenizer(resume_from / "tokenizer"), Normalizer.load(resume_from / "normalizer.json")

@@ -166,10 +166,10 @@ def test_tiny_vla_runs_the_protocol_end_to_end(tmp_path):
     vla_cfg = vla_cfg_from_hydra(compose_cfg("vla", [
         "vla/model=tiny", "vla/train=cpu", f"data.root={root}", "data.repo_id=synthetic/g1",
         f"train.output_dir={tmp_path / 'vla'}", "train.logger=none", "train.progress=false", "train.batch_size=2",
-        "train.steps=2", "inputs.states=[wrist_pose,grasp_point,goal_point]"]))
+        "train.steps=2", "data.heldout_episodes=1", "inputs.states=[wrist_pose,grasp_point,goal_point]"]))
     checkpoint = train_vla(vla_cfg).checkpoint
     cfg = eval_cfg(tmp_path / "results", [f"policy.checkpoint={checkpoint}", "name=tiny_vla", "video_episodes=1",
-                                          "image_size=[64,64]", "env.episode_length=12"])
+                                          "env.episode_length=12"])  # rendered at the dataset's 48 x 64
     summary = evaluate(cfg)
     run = tmp_path / "results" / "g1" / "tiny_vla"
     records = read_records(run / "test_objects_test_scenes.jsonl")

@@ -85,15 +85,20 @@ def test_experiment_configs_compose_and_train(experiment, dataset_root, tmp_path
 
 
 def test_checkpoint_resume_and_policy(dataset_root, tmp_path):
-    cfg = tiny_cfg(dataset_root, tmp_path, ["train.steps=3", "train.save_every=2",
+    cfg = tiny_cfg(dataset_root, tmp_path, ["train.steps=3", "train.save_every=2", "train.diagnose_every=2",
                                             "inputs.states=[wrist_pose,grasp_point,goal_point]"])
     first = train(cfg)
     assert [p.name for p in sorted((tmp_path / "checkpoints").iterdir())] == ["step_00000002", "step_00000003"]
-    assert {"model.safetensors", "config.yaml", "normalizer.json", "tokenizer", "backbone_config.json"} <= {
-        p.name for p in first.checkpoint.iterdir()}
-    longer = tiny_cfg(dataset_root, tmp_path, ["train.steps=5", "inputs.states=[wrist_pose,grasp_point,goal_point]"])
+    assert {"model.safetensors", "ema.safetensors", "config.yaml", "normalizer.json", "dataset.json", "tokenizer",
+            "backbone_config.json"} <= {p.name for p in first.checkpoint.iterdir()}
+    longer = tiny_cfg(dataset_root, tmp_path, ["train.steps=5", "train.diagnose_every=2",
+                                               "inputs.states=[wrist_pose,grasp_point,goal_point]"])
     resumed = train(longer)
     assert len(resumed.losses) == 2  # steps 4 and 5 only
+    diagnostics = [json.loads(line) for line in (tmp_path / "diagnostics.jsonl").read_text().splitlines()]
+    assert [d["step"] for d in diagnostics] == [2, 4]  # held-out diagnostics, none repeated by the resume
+    assert {"noise_mse/image", "noise_mse/null_image", "noise_mse/no_state", "open_loop_mse/cfg_1.5"} <= set(
+        diagnostics[-1])
     assert json.loads((resumed.checkpoint / "trainer_state.json").read_text()) == {"step": 5}
 
     with pytest.raises(ValueError, match="different"):  # same output_dir, other inputs
@@ -130,14 +135,14 @@ def test_overfitting_one_episode(tmp_path):
 
 def test_frame_cache_is_built_once_reused_and_rebuilt_when_the_dataset_changes(tmp_path):
     root = write_synthetic_dataset(tmp_path / "g1", episodes=2, length=12)
-    cfg = tiny_cfg(root, tmp_path / "out", ["data.heldout_episodes=0"])
+    cfg = tiny_cfg(root, tmp_path / "out")  # one episode trains, one is held out
     data = open_data(cfg, 32, progress=False)
     cache = cache_dir(root, cfg.inputs.cameras, 32) / "images.npy"
     built = cache.stat().st_mtime_ns
     # Cached frames are the LeRobot-decoded frames resized to the model's input (within uint8 rounding).
-    decoded = open_data(tiny_cfg(root, tmp_path / "out", ["data.heldout_episodes=0", "data.cache=false"]), 32,
-                        progress=False)
-    for i in (0, 5, 23):
+    decoded = open_data(tiny_cfg(root, tmp_path / "out", ["data.cache=false"]), 32, progress=False)
+    assert len(data.train) == len(decoded.train) == 12
+    for i in (0, 5, 11):
         for camera in cfg.inputs.cameras:
             key = f"observation.images.{camera}"
             want = resize_images(decoded.train[i][key][None].float(), 32)[0] * 255.0
