@@ -26,9 +26,13 @@ from mobilemani_vla.processor import STATE_KEYS, camera_key
 PAD = f"{schema.ACTION_BASE}_is_pad"
 
 
+def vector_keys(states: list[str]) -> list[str]:
+    """The normalised vectors a model reads: its action chunk and its state inputs."""
+    return [schema.ACTION_BASE] + [STATE_KEYS[s] for s in states]
+
+
 def required_features(cfg: VLACfg) -> list[str]:
-    return ([camera_key(c) for c in cfg.inputs.cameras] + [STATE_KEYS[s] for s in cfg.inputs.states]
-            + [schema.ACTION_BASE])
+    return [camera_key(c) for c in cfg.inputs.cameras] + vector_keys(cfg.inputs.states)
 
 
 def open_metadata(cfg: VLACfg) -> LeRobotDatasetMetadata:
@@ -40,11 +44,9 @@ def open_metadata(cfg: VLACfg) -> LeRobotDatasetMetadata:
     missing = [k for k in required_features(cfg) if k not in meta.features]
     if missing:
         raise KeyError(f"dataset {root} lacks features {missing} needed by inputs {cfg.inputs}")
-    for key in [STATE_KEYS[s] for s in cfg.inputs.states] + [schema.ACTION_BASE]:
-        want = (cfg.action_dim,) if key == schema.ACTION_BASE else None
-        have = tuple(meta.features[key]["shape"])
-        if want is not None and have != want:
-            raise ValueError(f"dataset {key} has shape {have} but robot={cfg.robot} needs {want}")
+    have = tuple(meta.features[schema.ACTION_BASE]["shape"])
+    if have != (cfg.action_dim,):
+        raise ValueError(f"dataset actions have shape {have} but robot={cfg.robot} needs ({cfg.action_dim},)")
     return meta
 
 
@@ -88,8 +90,7 @@ def split_episodes(episodes: list[int], heldout: int, seed: int) -> tuple[np.nda
 
 
 def fit_normalizer(table: FrameTable, rows: np.ndarray, states: list[str]) -> Normalizer:
-    keys = [schema.ACTION_BASE] + [STATE_KEYS[s] for s in states]
-    return Normalizer.fit({k: table.columns[k][rows] for k in keys})
+    return Normalizer.fit({k: table.columns[k][rows] for k in vector_keys(states)})
 
 
 class CachedFrames(Dataset):
@@ -145,8 +146,7 @@ def open_data(cfg: VLACfg, image_size: int, progress: bool = True) -> VLAData:
     meta = open_metadata(cfg)
     episodes = cfg.data.episodes if cfg.data.episodes is not None else list(range(meta.total_episodes))
     train_eps, heldout_eps = split_episodes(episodes, cfg.data.heldout_episodes, cfg.train.seed)
-    keys = [schema.ACTION_BASE] + [STATE_KEYS[s] for s in cfg.inputs.states]
-    table = FrameTable.read(meta, keys)
+    table = FrameTable.read(meta, vector_keys(cfg.inputs.states))
     if cfg.data.cache:
         images = cached_images(Path(cfg.data.root), meta, cfg.inputs.cameras, image_size, cfg.data.video_backend,
                                progress)
