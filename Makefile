@@ -96,17 +96,18 @@ data: setup
 bench-data: setup
 	$(PY) -m mobilemani_data.bench robot=$(ROBOT)
 
-# The CPU VLA recipe (docs/results/vla_cpu_recipe.md): 120 scripted-teacher episodes of g1 on test/box in 12 train
-# rooms, the cpu model trained ~75 min on 2 cores, then 40 closed-loop episodes in the 4 unseen test rooms.
-#   make recipe [RECIPE_SKILL=open|close RECIPE_STEPS=3000]
+# The CPU VLA recipe (docs/results/vla_cpu_recipe.md): 160 scripted-teacher episodes of g1 on test/box in the 16
+# train rooms rendered at the model's 64 px, the cpu model trained ~85 min on 2 cores, then 40 closed-loop episodes
+# in the 4 unseen test rooms.
+#   make recipe [RECIPE_SKILL=open|close RECIPE_STEPS=3500]
 RECIPE ?= runs/recipe
 RECIPE_SKILL ?= open
-RECIPE_STEPS ?= 3000
+RECIPE_STEPS ?= 3500
 RECIPE_DIR = $(RECIPE)/$(RECIPE_SKILL)
 .PHONY: recipe
 recipe: setup
 	$(MAKE) data ROBOT=g1 SUBSET=recipe TEACHER=scripted DATA_ARGS="data_dir=$(RECIPE_DIR)/data \
-		subset.skills=[$(RECIPE_SKILL)] export.width=128 export.height=128 export.vcodec=h264"
+		subset.skills=[$(RECIPE_SKILL)] export.width=64 export.height=64 export.vcodec=h264 export.crf=20"
 	$(MAKE) vla ROBOT=g1 VLA_ARGS="vla/model=cpu vla/train=cpu name=recipe_$(RECIPE_SKILL) \
 		data.root=$(RECIPE_DIR)/data/lerobot train.output_dir=$(RECIPE_DIR)/vla train.steps=$(RECIPE_STEPS)"
 	$(MAKE) eval ROBOT=g1 POLICY=vla PROTOCOL=recipe NAME=vla_$(RECIPE_SKILL) \
@@ -114,7 +115,7 @@ recipe: setup
 		EVAL_ARGS="output_dir=$(RECIPE)/eval subset.skills=[$(RECIPE_SKILL)] video_episodes=1"
 
 # The whole chain at small scale (about 30 minutes on 2 cores): a PPO teacher for g1 opening test/box, 48 episodes from
-# it in eight train rooms (128 px, H.264), the CPU recipe's VLA (vla/model=cpu vla/train=cpu, DEMO_VLA_STEPS steps),
+# it in eight train rooms (64 px, H.264), the CPU recipe's VLA (vla/model=cpu vla/train=cpu, DEMO_VLA_STEPS steps),
 # closed-loop evaluation of both over 20 episodes in the four unseen test rooms, tables and a report.
 # Every stage resumes or skips finished work, so a rerun after an interruption continues.
 DEMO ?= runs/demo
@@ -122,7 +123,7 @@ DEMO_VLA_STEPS ?= 400
 demo: setup
 	$(MAKE) rl ROBOT=g1 OBJECT=test/box SKILL=open RL_ARGS="run_dir=$(DEMO)/rl/g1/test/box/open rl.ppo.max_iterations=300"
 	$(MAKE) data ROBOT=g1 SUBSET=demo TEACHER=ppo DATA_ARGS="data_dir=$(DEMO)/data teacher.runs_dir=$(DEMO)/rl \
-		export.width=128 export.height=128 export.vcodec=h264"
+		export.width=64 export.height=64 export.vcodec=h264 export.crf=20"
 	$(MAKE) vla ROBOT=g1 VLA_ARGS="name=demo vla/model=cpu vla/train=cpu data.root=$(DEMO)/data/lerobot \
 		data.heldout_episodes=2 train.output_dir=$(DEMO)/vla train.steps=$(DEMO_VLA_STEPS) train.warmup_steps=50 \
 		train.save_every=$(DEMO_VLA_STEPS) train.diagnose_every=$(DEMO_VLA_STEPS) train.logger=none"

@@ -6,6 +6,7 @@ from dataclasses import dataclass, field
 
 from omegaconf import DictConfig, OmegaConf
 
+from mobilemani_vla.augment import AugmentCfg
 from mobilemani_vla.dit import DIT_PRESETS
 
 ROBOT_ACTION_DIMS = {"g1": 7, "xhand": 18}  # 6 wrist deltas + 1 gripper / 12 hand joints
@@ -109,6 +110,7 @@ class TrainCfg:
     progress: bool = True
     seed: int = 0
     output_dir: str = "outputs/vla/g1/default/tiny"
+    augment: AugmentCfg = field(default_factory=AugmentCfg)  # train-time image augmentation
 
 
 @dataclass

@@ -26,6 +26,7 @@ from torch.utils.data import DataLoader
 from tqdm import tqdm
 from transformers import PreTrainedTokenizerBase
 
+from mobilemani_vla.augment import augment_images
 from mobilemani_vla.checkpoint import (
     checkpoint_dir,
     checkpoint_step,
@@ -173,7 +174,9 @@ def train(cfg: VLACfg) -> TrainResult:
                disable=not (cfg.train.progress and accelerator.is_local_main_process))
     clock = time.perf_counter()
     for step in bar:
-        loss = model(next(batches))
+        batch = next(batches)
+        batch["pixel_values"] = augment_images(batch["pixel_values"], cfg.inputs.cameras, cfg.train.augment)
+        loss = model(batch)
         accelerator.backward(loss)
         if cfg.train.grad_clip > 0:
             accelerator.clip_grad_norm_(model.parameters(), cfg.train.grad_clip)
