@@ -47,6 +47,9 @@ class ExportCfg:
     preset: int | None = None  # None: the codec's default
     streaming_encoding: bool = True  # encode frames as they come (no temporary PNGs)
     action_convention: str = "conjugate"  # base_frame.Convention; "reference": the released data's quirk (§10.3)
+    # The image streams written, i.e. what a stock LeRobot policy trains on (it takes every observation.images.*):
+    cameras: list[str] = field(default_factory=lambda: ["head", "wrist"])  # any of schema.CAMERAS
+    modalities: list[str] = field(default_factory=lambda: ["rgb", "depth", "seg"])  # any of schema.MODALITIES
     overwrite: bool = False
 
 

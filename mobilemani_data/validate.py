@@ -55,7 +55,8 @@ def check_dataset(root: Path, repo_id: str, raw_dir: Path, robot_name: str, shar
     report = read_export_report(root)
     meta = LeRobotDatasetMetadata(repo_id, root=root)
     problems = []
-    expected = schema.features(robot.action_dim, len(robot.hand_joints), report["height"], report["width"])
+    expected = schema.features(robot.action_dim, len(robot.hand_joints), report["height"], report["width"],
+                               tuple(report["cameras"]), tuple(report["modalities"]))
     for name, spec in expected.items():
         found = meta.features.get(name)
         if found is None or tuple(found["shape"]) != spec["shape"] or found["dtype"] != spec["dtype"]:
@@ -81,8 +82,8 @@ def check_dataset(root: Path, repo_id: str, raw_dir: Path, robot_name: str, shar
     ds = LeRobotDataset(meta.repo_id, root=root, video_backend="pyav")
     for index in np.linspace(0, len(ds) - 1, cfg.decode_frames).round().astype(int):
         frame = ds[int(index)]
-        for camera in schema.CAMERAS:
-            for modality in schema.MODALITIES:
+        for camera in report["cameras"]:
+            for modality in report["modalities"]:
                 shape = tuple(frame[schema.image_key(camera, modality)].shape)
                 if shape != (3, report["height"], report["width"]):
                     problems.append(f"{root}: frame {index} {camera}_{modality} decodes to {shape}")
