@@ -19,30 +19,16 @@ import cv2
 import hydra
 import mujoco
 import numpy as np
-import torch
 from omegaconf import DictConfig, OmegaConf
-from tensordict import TensorDict
 
 from mobilemani_rl.assets.objects import CATEGORIES, SPLITS, catalog_ids, get_object
 from mobilemani_rl.envs.config import env_cfg_from_hydra
 from mobilemani_rl.envs.mobilemani_env import MobileManiEnv
-from mobilemani_rl.rl.factory import build_runner
-from mobilemani_rl.rl.run_dir import CONFIG, write_json_atomic
+from mobilemani_rl.rl.run_dir import write_json_atomic
 from mobilemani_rl.rollout import run_first_episodes
+from mobilemani_rl.teacher import TeacherPolicy, load_teacher, run_config
 
 VIDEO_SIZE = 320
-
-
-class TeacherPolicy:
-    """Deterministic actor of a trained runner, reading the env's current observation."""
-
-    def __init__(self, env: MobileManiEnv, actor: torch.nn.Module) -> None:
-        self.env, self.actor = env, actor
-
-    @torch.inference_mode()
-    def __call__(self) -> np.ndarray:
-        obs = TensorDict({"policy": torch.from_numpy(self.env.obs)}, batch_size=[self.env.num_envs])
-        return self.actor(obs).numpy()
 
 
 class HeadCameraRecorder:
@@ -89,7 +75,7 @@ def evaluate(checkpoint: Path, episodes: int, seed: int, video_episodes: int = 0
     """Success and reward breakdown of a checkpoint over `episodes` seeded episodes per evaluated object."""
     if not checkpoint.is_file():
         raise FileNotFoundError(f"checkpoint {checkpoint} does not exist")
-    run_cfg = OmegaConf.load(checkpoint.parent / CONFIG)
+    run_cfg = run_config(checkpoint)
     env_cfg = env_cfg_from_hydra(run_cfg)
     env_cfg.num_envs = episodes
     per_object: dict[str, dict] = {}
@@ -99,9 +85,7 @@ def evaluate(checkpoint: Path, episodes: int, seed: int, video_episodes: int = 0
             env = MobileManiEnv(dataclasses.replace(env_cfg, task=dataclasses.replace(env_cfg.task,
                                                                                       object=object_id)))
             if actor is None:
-                runner = build_runner(run_cfg, run_dir=None, env=env)
-                runner.load(str(checkpoint))
-                actor = runner.get_inference_policy()
+                _, actor = load_teacher(checkpoint, env=env, cfg=run_cfg)
             recorder = HeadCameraRecorder(env, video_episodes) if video_episodes else None
             stats = run_first_episodes(env, TeacherPolicy(env, actor), seed=seed, on_step=recorder)
             per_object[object_id] = {"split": split, **stats.summary()}
