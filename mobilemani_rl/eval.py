@@ -12,56 +12,19 @@ from __future__ import annotations
 
 import dataclasses
 import json
-import os
 from pathlib import Path
 
-import cv2
 import hydra
-import mujoco
 import numpy as np
 from omegaconf import DictConfig, OmegaConf
 
 from mobilemani_rl.assets.objects import CATEGORIES, SPLITS, catalog_ids, get_object
 from mobilemani_rl.envs.config import env_cfg_from_hydra
 from mobilemani_rl.envs.mobilemani_env import MobileManiEnv
-from mobilemani_rl.rl.run_dir import write_json_atomic
+from mobilemani_rl.io import write_json_atomic
 from mobilemani_rl.rollout import run_first_episodes
 from mobilemani_rl.teacher import TeacherPolicy, load_teacher, run_config
-
-VIDEO_SIZE = 320
-
-
-class HeadCameraRecorder:
-    """Collects head-camera frames of the first k envs while their first episode runs."""
-
-    def __init__(self, env: MobileManiEnv, episodes: int) -> None:
-        self.env, self.ids = env, list(range(min(episodes, env.num_envs)))
-        self.renderer = mujoco.Renderer(env.model, VIDEO_SIZE, VIDEO_SIZE)
-        self.frames: dict[int, list[np.ndarray]] = {i: [] for i in self.ids}
-        self.finished: set[int] = set()
-
-    def __call__(self, result) -> None:
-        for i in self.ids:
-            if i in self.finished:
-                continue
-            self.renderer.update_scene(self.env.batch.get_data(i), camera=self.env.robot.head_camera)
-            self.frames[i].append(self.renderer.render())
-            if i in result.done_ids:
-                self.finished.add(i)
-
-    def write(self, directory: Path) -> list[str]:
-        directory.mkdir(parents=True, exist_ok=True)
-        paths = []
-        for i, frames in self.frames.items():
-            path = directory / f"episode_{i:03d}.mp4"
-            tmp = path.with_name(path.stem + ".tmp.mp4")
-            writer = cv2.VideoWriter(str(tmp), cv2.VideoWriter_fourcc(*"mp4v"), 30, (VIDEO_SIZE, VIDEO_SIZE))
-            for frame in frames:
-                writer.write(cv2.cvtColor(frame, cv2.COLOR_RGB2BGR))
-            writer.release()
-            os.replace(tmp, path)
-            paths.append(str(path))
-        return paths
+from mobilemani_rl.video import HeadCameraRecorder
 
 
 def evaluation_objects(task_object: str) -> dict[str, list[str]]:

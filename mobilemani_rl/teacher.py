@@ -7,6 +7,7 @@ Evaluation (`mobilemani_rl.eval`), data collection (`mobilemani_data.teachers`) 
 
 from __future__ import annotations
 
+import json
 from pathlib import Path
 
 import numpy as np
@@ -17,7 +18,7 @@ from tensordict import TensorDict
 from mobilemani_rl.envs.mobilemani_env import MobileManiEnv
 from mobilemani_rl.envs.multi_object import MultiObjectEnv
 from mobilemani_rl.rl.factory import build_runner
-from mobilemani_rl.rl.run_dir import CONFIG, latest_checkpoint
+from mobilemani_rl.rl.run_dir import CONFIG, RESULT, latest_checkpoint
 
 
 def teacher_run_dir(runs_dir: str | Path, robot: str, object_id: str, skill: str) -> Path:
@@ -32,6 +33,12 @@ def newest_checkpoint(run_dir: Path) -> Path:
         raise FileNotFoundError(f"no teacher checkpoint model_*.pt in {run_dir} (train one with "
                                 "python -m mobilemani_rl.train)")
     return found
+
+
+def trained_success(run_dir: Path) -> float | None:
+    """The success rate the run reached in training (its result.json); None while it has not finished."""
+    path = run_dir / RESULT
+    return json.loads(path.read_text()).get("train_success") if path.is_file() else None
 
 
 def run_config(checkpoint: Path) -> DictConfig:

@@ -9,7 +9,7 @@ import torch
 from hydra import compose, initialize_config_dir
 
 from mobilemani_rl.rl.run_dir import CONFIG
-from mobilemani_rl.teacher import TeacherPolicy, load_teacher, newest_checkpoint, teacher_run_dir
+from mobilemani_rl.teacher import TeacherPolicy, load_teacher, newest_checkpoint, teacher_run_dir, trained_success
 from mobilemani_rl.train import train
 
 CONF = str(Path(__file__).resolve().parents[1] / "conf")
@@ -35,6 +35,7 @@ def test_loader_finds_loads_and_refuses_code(trained_run, tmp_path, monkeypatch)
     runs_dir, robot, object_id, skill = trained_run
     run_dir = teacher_run_dir(runs_dir, robot, object_id, skill)
     checkpoint = newest_checkpoint(run_dir)
+    assert 0.0 <= trained_success(run_dir) <= 1.0 and trained_success(tmp_path) is None
     env, actor = load_teacher(checkpoint, num_envs=3)
     actions = TeacherPolicy(env, actor)()
     assert actions.shape == (3, env.num_actions) and torch.isfinite(torch.as_tensor(actions)).all()
