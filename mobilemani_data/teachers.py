@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-import json
 from dataclasses import dataclass
 
 from mobilemani_data.config import TeacherCfg
@@ -41,21 +40,19 @@ def build_teacher(cfg: TeacherCfg, combo: Combination, env_base: EnvCfg, num_env
 
 def _ppo_teacher(cfg: TeacherCfg, combo: Combination, num_envs: int, seed: int) -> Teacher:
     # Imported here: the RL stack (torch, rsl-rl) is only needed for PPO teachers.
-    from mobilemani_rl.rl.run_dir import RESULT
     from mobilemani_rl.teacher import (
         TeacherPolicy,
         load_teacher,
         newest_checkpoint,
         run_config,
         teacher_run_dir,
+        trained_success,
     )
 
     run_dir = teacher_run_dir(cfg.runs_dir, combo.robot, combo.object_id, combo.skill)
     checkpoint = newest_checkpoint(run_dir)
-    result = run_dir / RESULT
-    if result.exists() and (rate := json.loads(result.read_text()).get("train_success")) is not None:
-        if rate < cfg.min_train_success:
-            raise TeacherUnavailable(f"{run_dir} trained to success {rate:.2f} < {cfg.min_train_success}")
+    if (rate := trained_success(run_dir)) is not None and rate < cfg.min_train_success:
+        raise TeacherUnavailable(f"{run_dir} trained to success {rate:.2f} < {cfg.min_train_success}")
     # The teacher acts in the env it was trained in (physics, action scales), placed in the recording scene.
     run_cfg = run_config(checkpoint)
     run_cfg.task.scene = combo.scene
