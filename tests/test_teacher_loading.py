@@ -9,7 +9,13 @@ import torch
 from hydra import compose, initialize_config_dir
 
 from mobilemani_rl.rl.run_dir import CONFIG
-from mobilemani_rl.teacher import TeacherPolicy, load_teacher, newest_checkpoint, teacher_run_dir, trained_success
+from mobilemani_rl.teacher import (
+    TeacherPolicy,
+    load_teacher,
+    newest_checkpoint,
+    teacher_run_dir,
+    trained_success,
+)
 from mobilemani_rl.train import train
 
 CONF = str(Path(__file__).resolve().parents[1] / "conf")
