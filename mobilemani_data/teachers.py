@@ -1,4 +1,4 @@
-"""Teachers for collection: the scripted reference policy, or a trained PPO checkpoint (reference §8a)."""
+"""Teachers for collection: the scripted reference policy, or a trained PPO checkpoint (docs/reference.md §8a)."""
 
 from __future__ import annotations
 
