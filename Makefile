@@ -35,7 +35,7 @@ lint: setup
 
 # Every benchmark in one JSON (results/bench.json) and one table against the raw MuJoCo limits.
 bench: setup
-	$(PY) scripts/bench_all.py
+	$(PY) -m scripts.bench_all
 
 bench-sim: setup
 	$(PY) -m mobilemani_rl.bench
@@ -59,8 +59,8 @@ EVAL_RESULTS ?= results/eval
 TABLES ?= results
 MAIN_RUN ?= default
 tables: setup
-	$(PY) scripts/rl_tables.py $(RL_RUNS) --out $(TABLES)/rl
-	$(PY) scripts/vla_tables.py $(EVAL_RESULTS) --out $(TABLES)/vla --main $(MAIN_RUN)
+	$(PY) -m mobilemani_rl.teacher_tables $(RL_RUNS) --out $(TABLES)/rl
+	$(PY) -m mobilemani_vla.tables $(EVAL_RESULTS) --out $(TABLES)/vla --main $(MAIN_RUN)
 
 # Closed-loop evaluation (Hydra root conf/eval.yaml): make eval ROBOT=g1 CHECKPOINT=<VLA checkpoint dir>
 #   [POLICY=vla|lerobot|teacher|scripted|random PROTOCOL=paper|ablation|small SPLIT=unseen_unseen|seen_unseen|.. NAME=..]

@@ -1,4 +1,4 @@
-"""Closed-loop evaluation of any policy on MobileManiBench (paper §4, reference §9).
+"""Closed-loop evaluation of any policy on MobileManiBench (paper §4, docs/reference.md §9).
 
     python -m mobilemani_vla.evaluate robot=g1 policy.checkpoint=outputs/vla/g1/default/tiny/checkpoints/step_X
     python -m mobilemani_vla.evaluate eval/policy=scripted eval/protocol=ablation eval/split=seen_unseen
@@ -24,9 +24,9 @@ from omegaconf import DictConfig, OmegaConf
 
 from mobilemani_rl.envs.config import TaskCfg
 from mobilemani_rl.envs.mobilemani_env import MobileManiEnv
-from mobilemani_rl.eval import HeadCameraRecorder
-from mobilemani_rl.rl.run_dir import write_json_atomic
+from mobilemani_rl.io import write_json_atomic
 from mobilemani_rl.tasks import Combination, recording_env_cfg, select_combinations
+from mobilemani_rl.video import HeadCameraRecorder
 from mobilemani_vla.eval_config import DEFAULT_IMAGE_SIZE, EvalCfg, eval_cfg_from_hydra
 from mobilemani_vla.harness import run_batch
 from mobilemani_vla.policies.base import EvalPolicy

@@ -6,8 +6,6 @@ never looks finished; rerunning resumes from the newest checkpoint with the save
 
 from __future__ import annotations
 
-import json
-import os
 import re
 from pathlib import Path
 
@@ -31,12 +29,6 @@ def latest_checkpoint(run_dir: Path) -> Path | None:
 
 def is_complete(run_dir: Path) -> bool:
     return (run_dir / RESULT).exists()
-
-
-def write_json_atomic(path: Path, payload: dict | list) -> None:
-    tmp = path.with_suffix(path.suffix + ".tmp")
-    tmp.write_text(json.dumps(payload, indent=2))
-    os.replace(tmp, path)
 
 
 def save_or_check_config(run_dir: Path, cfg: DictConfig, keys: tuple[str, ...]) -> None:
