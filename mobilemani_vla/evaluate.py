@@ -59,7 +59,7 @@ def evaluate_block(cfg: EvalCfg, policy: EvalPolicy, combo: Combination, block: 
              "scene": combo.scene, "split": combo.split, "scene_split": combo.scene_split,
              "instruction": combo.instruction, "policy": policy.name, "episode": block * size + slot,
              "seed": seed, "slot": slot, "success": bool(stats.success[slot]), "length": int(stats.length[slot]),
-             "return": float(returns[slot])} for slot in range(size)]
+             "return": float(returns[slot]), "nan_actions": int(stats.nan_actions[slot])} for slot in range(size)]
 
 
 def evaluate(cfg: EvalCfg, policy: EvalPolicy | None = None) -> dict:
