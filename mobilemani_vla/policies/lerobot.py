@@ -46,6 +46,7 @@ class LeRobotEvalPolicy(EvalPolicy):
         if outputs not in ([schema.ACTION], [schema.ACTION_BASE]):
             raise ValueError(f"the policy predicts {outputs}; expected [{schema.ACTION!r}] or [{schema.ACTION_BASE!r}]")
         self.action_frame = "world" if outputs == [schema.ACTION] else "base"
+        self.action_dim = int(config.output_features[outputs[0]].shape[0])
         self.inputs = frozenset(self.features) | {TASK}
 
     def _batch(self, obs: Observation, rows: np.ndarray) -> dict:
