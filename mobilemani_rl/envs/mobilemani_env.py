@@ -23,6 +23,7 @@ from mobilemani_rl.envs.observations import compute_observation, normalize_to_li
 from mobilemani_rl.envs.resets import sample_episode_start
 from mobilemani_rl.envs.rewards import RewardContext, TaskDistances, grasp_flag, reward_terms, total_reward
 from mobilemani_rl.envs.scene import build_scene
+from mobilemani_rl.registry import check_positive
 from mobilemani_rl.rotations import quat_from_euler, quat_mul, vector_norm
 
 # The palm-rotation reach term is on only for these (category, skill) pairs (reference §5b).
@@ -48,6 +49,7 @@ class MobileManiEnv:
     """Batched env for one (robot, object, skill) task."""
 
     def __init__(self, cfg: EnvCfg) -> None:
+        check_positive({"num_envs": cfg.num_envs})  # MuJoCo's own message ("nsim must be positive") names no key
         self.cfg = cfg
         self.robot = get_robot(cfg.task.robot)
         self.object = get_object(cfg.task.object)
