@@ -21,6 +21,18 @@ def test_non_positive_counts_name_their_keys(tmp_path):
     assert not any(tmp_path.iterdir())
 
 
+def test_non_positive_evaluation_counts_name_their_keys():
+    from hydra import compose, initialize_config_dir
+
+    from mobilemani_vla.eval_config import eval_cfg_from_hydra
+
+    conf = str(Path(__file__).resolve().parents[1] / "conf")
+    with initialize_config_dir(config_dir=conf, version_base="1.3"):
+        cfg = compose(config_name="eval", overrides=["episodes_per_batch=0"])
+    with pytest.raises(ValueError, match="episodes_per_batch=0"):
+        eval_cfg_from_hydra(cfg)
+
+
 def test_validating_nothing_is_a_problem_not_valid(tmp_path):
     problems = validate(tiny_cfg(tmp_path / "nowhere"))
     assert len(problems) == 1 and "nothing to validate" in problems[0]
