@@ -10,6 +10,7 @@ from dataclasses import dataclass, field
 from omegaconf import DictConfig, OmegaConf
 
 from mobilemani_rl.envs.config import EnvCfg, env_cfg_from_hydra
+from mobilemani_rl.registry import check_positive
 from mobilemani_rl.tasks import SubsetCfg
 
 
@@ -99,4 +100,10 @@ def data_cfg_from_hydra(cfg: DictConfig) -> DataCfg:
                              {"robot": cfg.task.robot, **{k: plain[k] for k in blocks}})
     out: DataCfg = OmegaConf.to_object(merged)
     out.env = env_cfg_from_hydra(OmegaConf.create({"env": plain["env"], "task": {"robot": cfg.task.robot}}))
+    # Checked before any stage writes: a zero or negative count would record empty shards marked complete.
+    check_positive({"subset.episodes": out.subset.episodes, "subset.scenes_per_object": out.subset.scenes_per_object,
+                    "subset.objects_per_category": out.subset.objects_per_category,
+                    "collect.num_envs": out.collect.num_envs, "collect.max_steps": out.collect.max_steps,
+                    "shard.count": out.shard.count, "export.width": out.export.width,
+                    "export.height": out.export.height})
     return out

@@ -33,10 +33,10 @@ RUN_KEYS = ("task", "env", "rl")
 
 def train(cfg: DictConfig) -> Path:
     run_dir = Path(cfg.run_dir)
+    save_or_check_config(run_dir, cfg, RUN_KEYS)  # first: a finished run asked for other settings is an error
     if is_complete(run_dir):
         print(f"{run_dir} is complete ({RESULT} exists); nothing to do")
         return run_dir
-    save_or_check_config(run_dir, cfg, RUN_KEYS)
     ppo = ppo_cfg_from_hydra(cfg)
     runner = build_runner(cfg, run_dir)
     wall = time.time()

@@ -18,6 +18,7 @@ from lerobot.datasets.lerobot_dataset import LeRobotDataset
 from torch.utils.data import Dataset
 
 from mobilemani_data import schema
+from mobilemani_data.metadata import check_dataset_files
 from mobilemani_vla.config import VLACfg
 from mobilemani_vla.frame_cache import cached_images
 from mobilemani_vla.normalizer import Normalizer
@@ -41,6 +42,7 @@ def open_metadata(cfg: VLACfg) -> LeRobotDatasetMetadata:
     if not (root / "meta" / "info.json").is_file():
         raise FileNotFoundError(f"no LeRobot dataset at {root} (set data.root; export one with mobilemani_data)")
     meta = LeRobotDatasetMetadata(cfg.data.repo_id, root=root)
+    check_dataset_files(meta)
     missing = [k for k in required_features(cfg) if k not in meta.features]
     if missing:
         raise KeyError(f"dataset {root} lacks features {missing} needed by inputs {cfg.inputs}")

@@ -22,6 +22,7 @@ from pathlib import Path
 import hydra
 from omegaconf import DictConfig, OmegaConf
 
+from mobilemani_rl.assets.robots import get_robot
 from mobilemani_rl.envs.config import TaskCfg
 from mobilemani_rl.envs.mobilemani_env import MobileManiEnv
 from mobilemani_rl.io import write_json_atomic
@@ -59,7 +60,7 @@ def evaluate_block(cfg: EvalCfg, policy: EvalPolicy, combo: Combination, block: 
              "scene": combo.scene, "split": combo.split, "scene_split": combo.scene_split,
              "instruction": combo.instruction, "policy": policy.name, "episode": block * size + slot,
              "seed": seed, "slot": slot, "success": bool(stats.success[slot]), "length": int(stats.length[slot]),
-             "return": float(returns[slot])} for slot in range(size)]
+             "return": float(returns[slot]), "nan_actions": int(stats.nan_actions[slot])} for slot in range(size)]
 
 
 def evaluate(cfg: EvalCfg, policy: EvalPolicy | None = None) -> dict:
@@ -69,6 +70,10 @@ def evaluate(cfg: EvalCfg, policy: EvalPolicy | None = None) -> dict:
                          f"({cfg.episodes_per_batch}) so that every episode keeps its seed")
     combos = select_combinations(cfg.robot, cfg.subset)
     policy = policy or build_policy(cfg.policy)
+    expected = get_robot(cfg.robot).action_dim
+    if policy.action_dim not in (None, expected):
+        raise ValueError(f"{policy.name} predicts {policy.action_dim}-d actions but robot={cfg.robot} takes "
+                         f"{expected}-d ones; evaluate it with the robot it was trained for")
     out = run_dir(cfg)
     results = ResultsFile(out / f"{cfg.split_name}.jsonl")
     write_json_atomic(out / "config.json", {"eval": OmegaConf.to_container(OmegaConf.structured(cfg)),

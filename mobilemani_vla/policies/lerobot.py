@@ -48,6 +48,7 @@ class LeRobotEvalPolicy(EvalPolicy):
             raise ValueError(f"the policy predicts {outputs}; expected [{schema.ACTION!r}] (the dataset's base-frame "
                              "action)")
         self.action_frame = "base"
+        self.action_dim = int(config.output_features[schema.ACTION].shape[0])
         self.inputs = frozenset(self.features) | {TASK}
         visual = [shape for _, shape in self.features.values() if len(shape) == 3]
         if visual:  # render as the training dataset was rendered: (C, H, W) of its first image feature
