@@ -35,7 +35,7 @@ lint: setup
 
 # Every benchmark in one JSON (results/bench.json) and one table against the raw MuJoCo limits.
 bench: setup
-	$(PY) scripts/bench_all.py
+	$(PY) -m scripts.bench_all
 
 bench-sim: setup
 	$(PY) -m mobilemani_rl.bench
@@ -59,8 +59,8 @@ EVAL_RESULTS ?= results/eval
 TABLES ?= results
 MAIN_RUN ?= default
 tables: setup
-	$(PY) scripts/rl_tables.py $(RL_RUNS) --out $(TABLES)/rl
-	$(PY) scripts/vla_tables.py $(EVAL_RESULTS) --out $(TABLES)/vla --main $(MAIN_RUN)
+	$(PY) -m mobilemani_rl.teacher_tables $(RL_RUNS) --out $(TABLES)/rl
+	$(PY) -m mobilemani_vla.tables $(EVAL_RESULTS) --out $(TABLES)/vla --main $(MAIN_RUN)
 
 # Closed-loop evaluation (Hydra root conf/eval.yaml): make eval ROBOT=g1 CHECKPOINT=<VLA checkpoint dir>
 #   [POLICY=vla|lerobot|teacher|scripted|random PROTOCOL=paper|ablation|small SPLIT=unseen_unseen|seen_unseen|.. NAME=..]
@@ -113,6 +113,37 @@ recipe: setup
 	$(MAKE) eval ROBOT=g1 POLICY=vla PROTOCOL=recipe NAME=vla_$(RECIPE_SKILL) \
 		CHECKPOINT=$(RECIPE_DIR)/vla/checkpoints/step_$(shell printf %08d $(RECIPE_STEPS)) \
 		EVAL_ARGS="output_dir=$(RECIPE)/eval subset.skills=[$(RECIPE_SKILL)] video_episodes=1"
+
+# A stock LeRobot policy on a MobileManiDataset, unmodified: lerobot-train, then the same closed-loop protocol as
+# MobileManiVLA (results land beside it, so `make tables` shows both). Pretrained backbones stay off (no downloads):
+#   make lerobot [LEROBOT_POLICY=act|diffusion LEROBOT_DATA=runs/recipe/open/data/lerobot LEROBOT_STEPS=2000
+#                 PROTOCOL=recipe EVAL_ARGS="output_dir=runs/recipe/eval"]
+LEROBOT_POLICY ?= act
+LEROBOT_DATA ?= data/$(ROBOT)/lerobot
+LEROBOT_STEPS ?= 2000
+LEROBOT_BATCH ?= 16
+LEROBOT_OUT ?= runs/lerobot/$(ROBOT)/$(LEROBOT_POLICY)
+LEROBOT_ARGS ?=
+# Our chunk is 16 steps at 30 Hz; single observation steps (the harness gives no history); images stay uncropped.
+LEROBOT_FLAGS_act = --policy.pretrained_backbone_weights=null --policy.chunk_size=16 --policy.n_action_steps=16
+LEROBOT_FLAGS_diffusion = --policy.n_obs_steps=1 --policy.horizon=16 --policy.n_action_steps=8 --policy.crop_shape=null
+LEROBOT_LAST = $(LEROBOT_OUT)/checkpoints/last
+LEROBOT_TRAIN = HF_HUB_OFFLINE=1 $(VENV)/bin/lerobot-train
+# A finished run is skipped; an interrupted one resumes from its last checkpoint (saved every quarter of the steps);
+# one interrupted before its first checkpoint has nothing to resume and starts again.
+.PHONY: lerobot
+lerobot: setup
+	@step=$$($(PY) -c "import json; print(json.load(open('$(LEROBOT_LAST)/training_state/training_step.json'))['step'])" \
+		2>/dev/null || echo none); \
+	if [ "$$step" = "$(LEROBOT_STEPS)" ]; then echo "$(LEROBOT_OUT): trained $$step steps already"; \
+	elif [ "$$step" != none ]; then $(LEROBOT_TRAIN) --resume=true --config_path=$(LEROBOT_LAST)/pretrained_model/train_config.json; \
+	else rm -rf $(LEROBOT_OUT) && $(LEROBOT_TRAIN) --policy.type=$(LEROBOT_POLICY) $(LEROBOT_FLAGS_$(LEROBOT_POLICY)) \
+		--policy.device=cpu --policy.push_to_hub=false --dataset.repo_id=mobilemani/$(ROBOT) \
+		--dataset.root=$(LEROBOT_DATA) --dataset.video_backend=pyav --num_workers=0 --batch_size=$(LEROBOT_BATCH) \
+		--steps=$(LEROBOT_STEPS) --save_freq=$$(( ($(LEROBOT_STEPS) + 3) / 4 )) --log_freq=50 --wandb.enable=false \
+		--output_dir=$(LEROBOT_OUT) $(LEROBOT_ARGS); fi
+	$(MAKE) eval ROBOT=$(ROBOT) POLICY=lerobot NAME=lerobot_$(LEROBOT_POLICY) \
+		CHECKPOINT=$(LEROBOT_LAST)/pretrained_model
 
 # The whole chain at small scale (about 30 minutes on 2 cores): a PPO teacher for g1 opening test/box, 48 episodes from
 # it in eight train rooms (64 px, H.264), the CPU recipe's VLA (vla/model=cpu vla/train=cpu, DEMO_VLA_STEPS steps),

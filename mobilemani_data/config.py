@@ -1,6 +1,6 @@
 """Dataset configuration dataclasses, mirrored by conf/data.yaml and its groups (conf/data/subset, conf/data/teacher).
 
-The env block (conf/env) is the RL env's EnvCfg; collection turns on its recording resets (reference §8b).
+The env block (conf/env) is the RL env's EnvCfg; collection turns on its recording resets (docs/reference.md §8b).
 """
 
 from __future__ import annotations
@@ -10,6 +10,7 @@ from dataclasses import dataclass, field
 from omegaconf import DictConfig, OmegaConf
 
 from mobilemani_rl.envs.config import EnvCfg, env_cfg_from_hydra
+from mobilemani_rl.registry import check_positive
 from mobilemani_rl.tasks import SubsetCfg
 
 
@@ -17,13 +18,13 @@ from mobilemani_rl.tasks import SubsetCfg
 class TeacherCfg:
     kind: str = "scripted"  # scripted | ppo
     runs_dir: str = "runs/rl"  # ppo: newest <runs_dir>/<robot>/<object>/<skill>/model_*.pt
-    min_train_success: float = 0.1  # ppo: skip tasks whose teacher trained below this (reference §8a)
+    min_train_success: float = 0.1  # ppo: skip tasks whose teacher trained below this (docs/reference.md §8a)
 
 
 @dataclass
 class CollectCfg:
     num_envs: int = 16  # episodes run in parallel per combination
-    max_steps: int = 6000  # control steps of the batch per combination before giving up (reference §8a)
+    max_steps: int = 6000  # control steps of the batch per combination before giving up (docs/reference.md §8a)
     seed: int = 0  # mixed with each combination's name into its env seed
     compression: int = 4  # gzip level of the HDF5 datasets
 
@@ -39,14 +40,17 @@ class ShardCfg:
 @dataclass
 class ExportCfg:
     repo_id: str = "mobilemani/g1"
-    width: int = 520  # reference §8c
+    width: int = 520  # docs/reference.md §8c
     height: int = 520
     vcodec: str = "libsvtav1"
     crf: int = 30
     gop: int = 2  # keyframe interval: small so random frame access stays cheap
     preset: int | None = None  # None: the codec's default
     streaming_encoding: bool = True  # encode frames as they come (no temporary PNGs)
-    action_convention: str = "conjugate"  # base_frame.Convention; "reference": the released data's quirk (§10.3)
+    action_convention: str = "conjugate"  # base_frame.Convention; "reference": the released data's quirk (docs/reference.md §10.3)
+    # The image streams written, i.e. what a stock LeRobot policy trains on (it takes every observation.images.*):
+    cameras: list[str] = field(default_factory=lambda: ["head", "wrist"])  # any of schema.CAMERAS
+    modalities: list[str] = field(default_factory=lambda: ["rgb", "depth", "seg"])  # any of schema.MODALITIES
     overwrite: bool = False
 
 
@@ -96,4 +100,10 @@ def data_cfg_from_hydra(cfg: DictConfig) -> DataCfg:
                              {"robot": cfg.task.robot, **{k: plain[k] for k in blocks}})
     out: DataCfg = OmegaConf.to_object(merged)
     out.env = env_cfg_from_hydra(OmegaConf.create({"env": plain["env"], "task": {"robot": cfg.task.robot}}))
+    # Checked before any stage writes: a zero or negative count would record empty shards marked complete.
+    check_positive({"subset.episodes": out.subset.episodes, "subset.scenes_per_object": out.subset.scenes_per_object,
+                    "subset.objects_per_category": out.subset.objects_per_category,
+                    "collect.num_envs": out.collect.num_envs, "collect.max_steps": out.collect.max_steps,
+                    "shard.count": out.shard.count, "export.width": out.export.width,
+                    "export.height": out.export.height})
     return out

@@ -1,8 +1,8 @@
 """One recorded episode -> the schema's per-frame vectors and images (mobilemani_data.schema).
 
-Exported frames are the recorded states t = 1 … T-1 (the reset state is dropped as in reference §8d). The action
+Exported frames are the recorded states t = 1 … T-1 (the reset state is dropped as in docs/reference.md §8d). The action
 stored with frame t is the one the teacher took after seeing it (applied from state t): the label shift of
-reference §8g happens here, so a reader takes `action` / `action_base` of a frame as its label as they are.
+docs/reference.md §8g happens here, so a reader takes `action` / `world.action` of a frame as its label as they are.
 """
 
 from __future__ import annotations
@@ -33,15 +33,14 @@ def episode_vectors(episode: Episode, num_hand_joints: int, convention: Conventi
     frames = episode_frame_state(episode, num_hand_joints)
     action = episode.arrays["action"][FIRST_FRAME:]
     vectors = frame_vectors(frames)
-    vectors[schema.ACTION] = action.astype(np.float32)
-    vectors[schema.ACTION_BASE] = action_to_base(action, frames.base_quat, convention).astype(np.float32)
+    vectors[schema.WORLD_ACTION] = action.astype(np.float32)
+    vectors[schema.ACTION] = action_to_base(action, frames.base_quat, convention).astype(np.float32)
     return vectors
 
 
-def camera_images(renderer: CameraRenderer, replayer: Replayer, state: np.ndarray,
-                  cameras: dict[str, str]) -> dict[str, np.ndarray]:
-    """Render one recorded state: {feature name: (H, W, 3) uint8} for each schema camera and modality.
-
-    `cameras` maps the schema's camera names (head, wrist) to the robot's MuJoCo camera names.
+def camera_images(renderer: CameraRenderer, replayer: Replayer, state: np.ndarray, cameras: dict[str, str],
+                  keys: list[str] | None = None) -> dict[str, np.ndarray]:
+    """Render one recorded state: {feature name: (H, W, 3) uint8} for the image features `keys` (default: every
+    modality of every camera). `cameras` maps the schema's camera names (head, wrist) to the robot's MuJoCo ones.
     """
-    return frame_images(renderer.render(replayer.set_state(state)), cameras)
+    return frame_images(renderer.render(replayer.set_state(state)), cameras, keys)

@@ -43,8 +43,21 @@ class ExportReport:
     total_s: float = 0.0
 
 
+def check_streams(cfg: ExportCfg) -> None:
+    """export.cameras / export.modalities: non-empty, known, no repeats (checked before anything is written)."""
+    for key, values, valid in (("export.cameras", cfg.cameras, schema.CAMERAS),
+                               ("export.modalities", cfg.modalities, schema.MODALITIES)):
+        if not values or any(v not in valid for v in values) or len(set(values)) != len(values):
+            raise ValueError(f"invalid {key} {list(values)}: name one or more of {list(valid)}, without repeats")
+
+
+def image_keys(cfg: ExportCfg) -> list[str]:
+    return [schema.image_key(c, m) for c in cfg.cameras for m in cfg.modalities]
+
+
 def create_dataset(root: Path, robot: RobotDescription, cfg: ExportCfg) -> LeRobotDataset:
-    features = schema.features(robot.action_dim, len(robot.hand_joints), cfg.height, cfg.width)
+    features = schema.features(robot.action_dim, len(robot.hand_joints), cfg.height, cfg.width,
+                               tuple(cfg.cameras), tuple(cfg.modalities))
     encoder = RGBEncoderConfig(vcodec=cfg.vcodec, crf=cfg.crf, g=cfg.gop, preset=cfg.preset)
     return LeRobotDataset.create(cfg.repo_id, fps=schema.FPS, features=features, root=root, robot_type=robot.name,
                                  use_videos=True, video_backend="pyav", rgb_encoder=encoder,
@@ -55,16 +68,18 @@ def add_shard(ds: LeRobotDataset, shard: Shard, robot: RobotDescription, cfg: Ex
               report: ExportReport) -> list[dict]:
     """Render and save every episode of a shard; returns their metadata lines."""
     replayer = Replayer(shard)
-    cameras = robot_cameras(robot)
+    cameras = {name: mj_camera for name, mj_camera in robot_cameras(robot).items() if name in cfg.cameras}
+    keys = image_keys(cfg)
     renderer = CameraRenderer(replayer.model, CameraRenderCfg(width=cfg.width, height=cfg.height,
-                                                              cameras=tuple(cameras.values())))
+                                                              cameras=tuple(cameras.values()),
+                                                              segmentation="seg" in cfg.modalities))
     lines = []
     try:
         for k, episode in enumerate(shard.episodes):
             vectors = episode_vectors(episode, len(robot.hand_joints), cfg.action_convention)
             for i, state in enumerate(episode.arrays["state"][FIRST_FRAME:]):
                 start = time.perf_counter()
-                frame = camera_images(renderer, replayer, state, cameras)
+                frame = camera_images(renderer, replayer, state, cameras, keys)
                 report.render_s += time.perf_counter() - start
                 frame.update({name: values[i] for name, values in vectors.items()})
                 frame["task"] = shard.header["instruction"]
@@ -86,6 +101,7 @@ def add_shard(ds: LeRobotDataset, shard: Shard, robot: RobotDescription, cfg: Ex
 def export(cfg: DataCfg) -> ExportReport:
     robot = get_robot(cfg.robot)
     raw_dir, root = Path(cfg.raw_dir), Path(cfg.dataset_dir)
+    check_streams(cfg.export)
     if root.exists() and not cfg.export.overwrite:
         raise FileExistsError(f"{root} exists; pass export.overwrite=true to replace it")
     paths = shard_paths(raw_dir, robot.name)
@@ -115,6 +131,7 @@ def export(cfg: DataCfg) -> ExportReport:
     (tmp / schema.EXPORT_REPORT_FILE).write_text(json.dumps(
         {"episodes": report.episodes, "frames": report.frames, "skipped": report.skipped,
          "width": cfg.export.width, "height": cfg.export.height, "vcodec": cfg.export.vcodec,
+         "cameras": list(cfg.export.cameras), "modalities": list(cfg.export.modalities),
          "action_convention": cfg.export.action_convention}, indent=2))
     if root.exists():
         shutil.rmtree(root)

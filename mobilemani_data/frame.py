@@ -33,7 +33,7 @@ class FrameState:
 
 
 def world_state(s: FrameState) -> np.ndarray:
-    """`observation.state` rows: hand pos, hand RPY, base pos, base RPY, hand joints (all world frame)."""
+    """`world.state` rows: hand pos, hand RPY, base pos, base RPY, hand joints (all world frame)."""
     return np.concatenate((s.hand_pos, euler_from_quat(s.hand_quat), s.base_pos, euler_from_quat(s.base_quat),
                            s.hand_joint_pos), axis=-1)
 
@@ -56,8 +56,8 @@ def frame_vectors(s: FrameState) -> dict[str, np.ndarray]:
     """Every observation vector of the schema, float32 (n, d). The grasp point at reset and the goal are fixed
     in the world; the base moves, so each frame sees them anew in its own base frame."""
     vectors = {
-        schema.STATE: world_state(s),
-        schema.WRIST_POSE_BASE: wrist_pose_base(s),
+        schema.STATE: np.concatenate((wrist_pose_base(s), s.hand_joint_pos), axis=-1),
+        schema.WORLD_STATE: world_state(s),
         schema.GRASP_POINT_BASE: points_to_base(s.grasp0, s.base_pos, s.base_quat),
         schema.GOAL_POINT_BASE: points_to_base(s.goal, s.base_pos, s.base_quat),
     }

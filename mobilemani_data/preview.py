@@ -26,11 +26,15 @@ def tile(frame: dict) -> np.ndarray:
     for camera in schema.CAMERAS:
         images = []
         for modality in schema.MODALITIES:
-            image = (frame[schema.image_key(camera, modality)].permute(1, 2, 0).numpy() * 255).round()
+            key = schema.image_key(camera, modality)
+            if key not in frame:  # a stream the export left out (export.cameras / export.modalities)
+                continue
+            image = (frame[key].permute(1, 2, 0).numpy() * 255).round()
             if modality == "seg":
                 image = image * (255.0 / (2 * schema.SEGMENTATION_SCALE))
             images.append(np.clip(image, 0, 255).astype(np.uint8))
-        rows.append(np.concatenate(images, axis=1))
+        if images:
+            rows.append(np.concatenate(images, axis=1))
     out = np.ascontiguousarray(np.concatenate(rows, axis=0))
     cv2.putText(out, frame["task"], (4, 14), cv2.FONT_HERSHEY_SIMPLEX, 0.4, (255, 255, 255), 1, cv2.LINE_AA)
     return out

@@ -1,12 +1,8 @@
-"""Teachers for collection: the scripted reference policy, or a trained PPO checkpoint (reference §8a)."""
+"""Teachers for collection: the scripted reference policy, or a trained PPO checkpoint (docs/reference.md §8a)."""
 
 from __future__ import annotations
 
-import json
 from dataclasses import dataclass
-from pathlib import Path
-
-from omegaconf import OmegaConf
 
 from mobilemani_data.config import TeacherCfg
 from mobilemani_data.recorder import Policy
@@ -44,26 +40,24 @@ def build_teacher(cfg: TeacherCfg, combo: Combination, env_base: EnvCfg, num_env
 
 def _ppo_teacher(cfg: TeacherCfg, combo: Combination, num_envs: int, seed: int) -> Teacher:
     # Imported here: the RL stack (torch, rsl-rl) is only needed for PPO teachers.
-    from mobilemani_rl.eval import TeacherPolicy
-    from mobilemani_rl.rl.run_dir import CONFIG, RESULT, latest_checkpoint
-    from mobilemani_rl.train import build_runner
+    from mobilemani_rl.teacher import (
+        TeacherPolicy,
+        load_teacher,
+        newest_checkpoint,
+        run_config,
+        teacher_run_dir,
+        trained_success,
+    )
 
-    run_dir = Path(cfg.runs_dir) / combo.robot / combo.object_id / combo.skill
-    checkpoint = latest_checkpoint(run_dir)
-    if checkpoint is None:
-        raise FileNotFoundError(f"no teacher checkpoint model_*.pt in {run_dir} for {combo.name} "
-                                f"(train one with python -m mobilemani_rl.train, or use data/teacher=scripted)")
-    result = run_dir / RESULT
-    if result.exists() and (rate := json.loads(result.read_text()).get("train_success")) is not None:
-        if rate < cfg.min_train_success:
-            raise TeacherUnavailable(f"{run_dir} trained to success {rate:.2f} < {cfg.min_train_success}")
+    run_dir = teacher_run_dir(cfg.runs_dir, combo.robot, combo.object_id, combo.skill)
+    checkpoint = newest_checkpoint(run_dir)
+    if (rate := trained_success(run_dir)) is not None and rate < cfg.min_train_success:
+        raise TeacherUnavailable(f"{run_dir} trained to success {rate:.2f} < {cfg.min_train_success}")
     # The teacher acts in the env it was trained in (physics, action scales), placed in the recording scene.
-    run_cfg = OmegaConf.load(run_dir / CONFIG)
+    run_cfg = run_config(checkpoint)
     run_cfg.task.scene = combo.scene
     run_cfg.env.reset.recording = True
     run_cfg.logger = "tensorboard"
-    runner = build_runner(run_cfg, run_dir=None, num_envs=num_envs)
-    runner.load(str(checkpoint))
-    env: MobileManiEnv = runner.env.env
+    env, actor = load_teacher(checkpoint, num_envs=num_envs, cfg=run_cfg)
     env.cfg.seed = seed
-    return Teacher(env, TeacherPolicy(env, runner.get_inference_policy()), str(checkpoint))
+    return Teacher(env, TeacherPolicy(env, actor), str(checkpoint))

@@ -22,7 +22,7 @@ from omegaconf import DictConfig
 from mobilemani_data import schema
 from mobilemani_data.config import DataCfg, ValidateCfg, data_cfg_from_hydra
 from mobilemani_data.convert import FIRST_FRAME
-from mobilemani_data.metadata import read_episodes, read_export_report
+from mobilemani_data.metadata import check_dataset_files, read_episodes, read_export_report
 from mobilemani_data.replay import Replayer
 from mobilemani_data.shards import Shard, ShardError, read_shard, shard_paths
 from mobilemani_rl.assets.robots import get_robot
@@ -54,8 +54,13 @@ def check_dataset(root: Path, repo_id: str, raw_dir: Path, robot_name: str, shar
     robot = get_robot(robot_name)
     report = read_export_report(root)
     meta = LeRobotDatasetMetadata(repo_id, root=root)
+    try:
+        check_dataset_files(meta)
+    except FileNotFoundError as err:
+        return [str(err)]
     problems = []
-    expected = schema.features(robot.action_dim, len(robot.hand_joints), report["height"], report["width"])
+    expected = schema.features(robot.action_dim, len(robot.hand_joints), report["height"], report["width"],
+                               tuple(report["cameras"]), tuple(report["modalities"]))
     for name, spec in expected.items():
         found = meta.features.get(name)
         if found is None or tuple(found["shape"]) != spec["shape"] or found["dtype"] != spec["dtype"]:
@@ -81,8 +86,8 @@ def check_dataset(root: Path, repo_id: str, raw_dir: Path, robot_name: str, shar
     ds = LeRobotDataset(meta.repo_id, root=root, video_backend="pyav")
     for index in np.linspace(0, len(ds) - 1, cfg.decode_frames).round().astype(int):
         frame = ds[int(index)]
-        for camera in schema.CAMERAS:
-            for modality in schema.MODALITIES:
+        for camera in report["cameras"]:
+            for modality in report["modalities"]:
                 shape = tuple(frame[schema.image_key(camera, modality)].shape)
                 if shape != (3, report["height"], report["width"]):
                     problems.append(f"{root}: frame {index} {camera}_{modality} decodes to {shape}")
@@ -98,8 +103,10 @@ def validate(cfg: DataCfg) -> list[str]:
     print(f"replay of {min(len(shards), cfg.validate.replay_episodes)} episodes: largest error {worst:.3g}")
     if root.exists():
         problems += check_dataset(root, cfg.export.repo_id, raw_dir, cfg.robot, shards, cfg.validate)
-    else:
+    elif shards:
         print(f"no dataset at {root}; checked the shards only")
+    else:
+        problems.append(f"nothing to validate: no shards under {raw_dir / cfg.robot} and no dataset at {root}")
     return problems
 
 

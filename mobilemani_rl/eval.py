@@ -12,70 +12,19 @@ from __future__ import annotations
 
 import dataclasses
 import json
-import os
 from pathlib import Path
 
-import cv2
 import hydra
-import mujoco
 import numpy as np
-import torch
 from omegaconf import DictConfig, OmegaConf
-from tensordict import TensorDict
 
 from mobilemani_rl.assets.objects import CATEGORIES, SPLITS, catalog_ids, get_object
 from mobilemani_rl.envs.config import env_cfg_from_hydra
 from mobilemani_rl.envs.mobilemani_env import MobileManiEnv
-from mobilemani_rl.rl.factory import build_runner
-from mobilemani_rl.rl.run_dir import CONFIG, write_json_atomic
+from mobilemani_rl.io import write_json_atomic
 from mobilemani_rl.rollout import run_first_episodes
-
-VIDEO_SIZE = 320
-
-
-class TeacherPolicy:
-    """Deterministic actor of a trained runner, reading the env's current observation."""
-
-    def __init__(self, env: MobileManiEnv, actor: torch.nn.Module) -> None:
-        self.env, self.actor = env, actor
-
-    @torch.inference_mode()
-    def __call__(self) -> np.ndarray:
-        obs = TensorDict({"policy": torch.from_numpy(self.env.obs)}, batch_size=[self.env.num_envs])
-        return self.actor(obs).numpy()
-
-
-class HeadCameraRecorder:
-    """Collects head-camera frames of the first k envs while their first episode runs."""
-
-    def __init__(self, env: MobileManiEnv, episodes: int) -> None:
-        self.env, self.ids = env, list(range(min(episodes, env.num_envs)))
-        self.renderer = mujoco.Renderer(env.model, VIDEO_SIZE, VIDEO_SIZE)
-        self.frames: dict[int, list[np.ndarray]] = {i: [] for i in self.ids}
-        self.finished: set[int] = set()
-
-    def __call__(self, result) -> None:
-        for i in self.ids:
-            if i in self.finished:
-                continue
-            self.renderer.update_scene(self.env.batch.get_data(i), camera=self.env.robot.head_camera)
-            self.frames[i].append(self.renderer.render())
-            if i in result.done_ids:
-                self.finished.add(i)
-
-    def write(self, directory: Path) -> list[str]:
-        directory.mkdir(parents=True, exist_ok=True)
-        paths = []
-        for i, frames in self.frames.items():
-            path = directory / f"episode_{i:03d}.mp4"
-            tmp = path.with_name(path.stem + ".tmp.mp4")
-            writer = cv2.VideoWriter(str(tmp), cv2.VideoWriter_fourcc(*"mp4v"), 30, (VIDEO_SIZE, VIDEO_SIZE))
-            for frame in frames:
-                writer.write(cv2.cvtColor(frame, cv2.COLOR_RGB2BGR))
-            writer.release()
-            os.replace(tmp, path)
-            paths.append(str(path))
-        return paths
+from mobilemani_rl.teacher import TeacherPolicy, load_teacher, run_config
+from mobilemani_rl.video import HeadCameraRecorder
 
 
 def evaluation_objects(task_object: str) -> dict[str, list[str]]:
@@ -89,7 +38,7 @@ def evaluate(checkpoint: Path, episodes: int, seed: int, video_episodes: int = 0
     """Success and reward breakdown of a checkpoint over `episodes` seeded episodes per evaluated object."""
     if not checkpoint.is_file():
         raise FileNotFoundError(f"checkpoint {checkpoint} does not exist")
-    run_cfg = OmegaConf.load(checkpoint.parent / CONFIG)
+    run_cfg = run_config(checkpoint)
     env_cfg = env_cfg_from_hydra(run_cfg)
     env_cfg.num_envs = episodes
     per_object: dict[str, dict] = {}
@@ -99,9 +48,7 @@ def evaluate(checkpoint: Path, episodes: int, seed: int, video_episodes: int = 0
             env = MobileManiEnv(dataclasses.replace(env_cfg, task=dataclasses.replace(env_cfg.task,
                                                                                       object=object_id)))
             if actor is None:
-                runner = build_runner(run_cfg, run_dir=None, env=env)
-                runner.load(str(checkpoint))
-                actor = runner.get_inference_policy()
+                _, actor = load_teacher(checkpoint, env=env, cfg=run_cfg)
             recorder = HeadCameraRecorder(env, video_episodes) if video_episodes else None
             stats = run_first_episodes(env, TeacherPolicy(env, actor), seed=seed, on_step=recorder)
             per_object[object_id] = {"split": split, **stats.summary()}

@@ -18,3 +18,10 @@ def check_choice(value: str, choices: Iterable[str], kind: str) -> str:
 
 def lookup[T](table: Mapping[str, T], name: str, kind: str) -> T:
     return table[check_choice(name, table, kind)]
+
+
+def check_positive(counts: Mapping[str, int | None]) -> None:
+    """Counts named by their config keys (None: unset) must be >= 1; stops with every offending key."""
+    bad = {key: value for key, value in counts.items() if value is not None and value < 1}
+    if bad:
+        raise ValueError("these must be at least 1: " + ", ".join(f"{k}={v}" for k, v in bad.items()))

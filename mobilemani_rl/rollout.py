@@ -17,6 +17,7 @@ class EpisodeStats:
     success: np.ndarray  # (num_envs,) bool
     length: np.ndarray  # (num_envs,) control steps
     reward_terms: dict[str, np.ndarray] = field(default_factory=dict)  # per-episode sums of weighted terms
+    nan_actions: np.ndarray | None = None  # (num_envs,) NaN action entries the policy sent (each applied as 0)
 
     def summary(self) -> dict:
         return {
@@ -25,6 +26,7 @@ class EpisodeStats:
             "mean_length": float(self.length.mean()),
             "reward_terms": {k: float(v.mean()) for k, v in self.reward_terms.items()},
             "mean_return": float(sum(v for v in self.reward_terms.values()).mean()) if self.reward_terms else 0.0,
+            "nan_action_entries": 0 if self.nan_actions is None else int(self.nan_actions.sum()),
         }
 
 
@@ -41,6 +43,7 @@ def run_first_episodes(env: MobileManiEnv, policy: Policy, seed: int,
     running = np.ones(n, dtype=bool)
     length = np.zeros(n, dtype=np.int64)
     sums: dict[str, np.ndarray] = {}
+    nan_actions = np.zeros(n, dtype=np.int64)
     for _ in range(env.max_episode_length):
         result = env.step(policy())
         if on_step is not None:
@@ -48,6 +51,7 @@ def run_first_episodes(env: MobileManiEnv, policy: Policy, seed: int,
         for name, values in result.reward_terms.items():
             sums.setdefault(name, np.zeros(n))[running] += values[running]
         length[running] += 1
+        nan_actions[running] += result.nan_actions[running]
         ended = np.zeros(n, dtype=bool)
         ended[result.done_ids] = True
         newly = ended & running
@@ -55,7 +59,7 @@ def run_first_episodes(env: MobileManiEnv, policy: Policy, seed: int,
         running &= ~ended
         if not running.any():
             break
-    return EpisodeStats(success, length, sums)
+    return EpisodeStats(success, length, sums, nan_actions)
 
 
 def first_episode_success(env: MobileManiEnv, policy: Policy, seed: int,

@@ -77,24 +77,7 @@ class ScriptedPolicyCfg:
     arc_lead: float = 0.1  # m of arc ahead of a hinged grip that the hand moves toward (0: straight at the goal)
 
 
-# The five-finger hand stops with the handle a little deeper, nearer its palm face, and 2 cm toward its wrist, so
-# that the curled fingers pass behind the handle (their sweep then clears a 3 cm cart bar); a lid's edge it takes
-# 2 cm toward its fingertips instead. Its weak finger servos need longer to close than the parallel gripper, and
-# its closing fingers knock a light lid out of the hand, so it pushes lids shut with the hand open. A laptop's
-# thin lip is too low for the palm (its hanging fingers meet the table first): the hand opens it with the palm 8 cm
-# above the lip, the fingertips hanging just in front of and below its edge, so that they curl in under the lip and
-# lift it (a 7-10 cm raise opens the sampled laptops in 97-100 % of episodes, 4 cm in 70 %, 12 cm in 19 %).
-# It picks with the fingers turned about 50° left of its heading and the object 4 cm toward the fingers: the
-# shortest turn to palm-down points them straight ahead, where the closing fingers knock a wide object forward out
-# of reach (the turned hand picks the sampled objects ~0.7 of the time, up from ~0.45; the thumb, which closes
-# beside the index, still lets the fruit and the block slip). An object on a low stage needs the stretched arm and
-# the base right at the stage: the arm's descent from the pre-grasp swings the palm back toward the shoulder and
-# the IK makes up for it by sliding the base forward, which lags the arm, so the hand descends slowly while the
-# base still moves (sampled holistic picks 0.66 -> 0.79 over 2 x 64 episodes per object; with the object's centre
-# below 0.3 m 0.05 -> 0.4, the fruit's 0.2).
-# The gripper's pads let a turning handle rotate between them, while turning the wrist with it makes them slip.
-# Turning the gripper up under a dropped oven door throws the G1 arm into the door, while its fingers pinch the
-# hanging handle from the front as well; the hand's wrist would hit the door from the front.
+# Per-robot tuning; docs/results/scripted_success.md says why each value is what it is and what it measured.
 ROBOT_CFG = {"g1": ScriptedPolicyCfg(move_follow=0.0, approach_from_below=False),
              "xhand": ScriptedPolicyCfg(grasp_depth=0.012, close_steps=15, grip_shift=0.02, lid_grip_shift=-0.02,
                                         pick_finger_yaw=0.9, pick_grip_shift=0.043, pick_descent_while_moving=0.1,

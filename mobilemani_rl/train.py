@@ -16,6 +16,7 @@ import hydra
 from omegaconf import DictConfig, OmegaConf
 
 from mobilemani_rl.eval import evaluate
+from mobilemani_rl.io import write_json_atomic
 from mobilemani_rl.rl.factory import build_runner, ppo_cfg_from_hydra
 from mobilemani_rl.rl.run_dir import (
     CURVE,
@@ -24,7 +25,6 @@ from mobilemani_rl.rl.run_dir import (
     is_complete,
     latest_checkpoint,
     save_or_check_config,
-    write_json_atomic,
 )
 from mobilemani_rl.rl.warm_start import warm_start
 
@@ -33,10 +33,10 @@ RUN_KEYS = ("task", "env", "rl")
 
 def train(cfg: DictConfig) -> Path:
     run_dir = Path(cfg.run_dir)
+    save_or_check_config(run_dir, cfg, RUN_KEYS)  # first: a finished run asked for other settings is an error
     if is_complete(run_dir):
         print(f"{run_dir} is complete ({RESULT} exists); nothing to do")
         return run_dir
-    save_or_check_config(run_dir, cfg, RUN_KEYS)
     ppo = ppo_cfg_from_hydra(cfg)
     runner = build_runner(cfg, run_dir)
     wall = time.time()

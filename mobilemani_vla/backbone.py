@@ -36,14 +36,15 @@ def paligemma_config(cfg: ModelCfg) -> PaliGemmaConfig:
     return config
 
 
-def load_paligemma(path: str | Path, attn_implementation: str | None = None) -> PaliGemmaModel:
-    """Pretrained weights from a local directory only (no hub access); the LM head is dropped."""
+def load_paligemma(path: str | Path, attn_implementation: str | None = None,
+                   dtype: torch.dtype = torch.float32) -> PaliGemmaModel:
+    """Pretrained weights from a local directory only (no hub access), in `dtype`; the LM head is dropped."""
     if not (Path(path) / "config.json").is_file():
         raise FileNotFoundError(f"no PaliGemma checkpoint at {path} (model.pretrained_path needs config.json + "
                                 "safetensors; real PaliGemma-2 weights must be placed on disk by hand)")
     kwargs = {"attn_implementation": attn_implementation} if attn_implementation else {}
     full = PaliGemmaForConditionalGeneration.from_pretrained(str(path), local_files_only=True,
-                                                             dtype=torch.float32, **kwargs)
+                                                             dtype=dtype, **kwargs)
     return full.model
 
 

@@ -1,6 +1,8 @@
 """Checkpoint directory layout (one per saved step, written under a temporary name and renamed when complete):
 
-    model.safetensors  optimizer.bin  random_states_*.pkl   accelerate's training state (weights unwrapped)
+    model.safetensors  optimizer.bin  random_states_*.pkl   accelerate's training state (weights unwrapped); under
+                         FSDP accelerate writes pytorch_model_fsdp.bin instead and the trainer adds the gathered
+                         weights as model.safetensors, so every checkpoint has one
     ema.safetensors      the moving average of the weights (train.ema_decay > 0); evaluation loads these
     config.yaml          the VLACfg
     backbone_config.json the PaliGemma config, so reloading needs no pretrained directory
@@ -17,7 +19,7 @@ import shutil
 from pathlib import Path
 
 import torch
-from safetensors.torch import load_file, load_model, save_model
+from safetensors.torch import load_file, load_model, save_file, save_model
 from torch.optim.swa_utils import AveragedModel
 from transformers import PaliGemmaConfig, PreTrainedTokenizerBase
 
@@ -27,6 +29,8 @@ from mobilemani_vla.normalizer import Normalizer
 from mobilemani_vla.tokenizer import load_tokenizer
 
 WEIGHTS = "model.safetensors"
+FSDP_WEIGHTS = "pytorch_model_fsdp.bin"  # accelerate's save_state under FSDP with a FULL_STATE_DICT
+FSDP_SHARDS = "pytorch_model_fsdp_0"  # ... and with a SHARDED_STATE_DICT (torch.distributed.checkpoint)
 EMA_WEIGHTS = "ema.safetensors"
 DATASET = "dataset.json"
 STATE = "trainer_state.json"
@@ -82,12 +86,30 @@ def load_ema(ema: AveragedModel, directory: Path) -> None:
     load_model(ema, str(directory / EMA_WEIGHTS))
 
 
+def save_gathered_weights(directory: Path, state: dict[str, torch.Tensor]) -> None:
+    """Write the full (gathered) weights as model.safetensors where accelerate wrote another format (FSDP)."""
+    if not (directory / WEIGHTS).is_file():
+        save_file({k: v.contiguous() for k, v in state.items()}, str(directory / WEIGHTS))
+
+
+def trained_weights(directory: Path) -> dict[str, torch.Tensor]:
+    """model.safetensors, or accelerate's FSDP full state dict (tensors only: loaded with weights_only=True)."""
+    if (directory / WEIGHTS).is_file():
+        return load_file(directory / WEIGHTS)
+    if (directory / FSDP_WEIGHTS).is_file():
+        return torch.load(directory / FSDP_WEIGHTS, map_location="cpu", weights_only=True)
+    if (directory / FSDP_SHARDS).is_dir():
+        raise FileNotFoundError(f"{directory} holds sharded FSDP weights only; merge them first: accelerate "
+                                f"merge-weights {directory / FSDP_SHARDS} {directory}")
+    raise FileNotFoundError(f"{directory} is not a complete MobileManiVLA checkpoint (no {WEIGHTS} or {FSDP_WEIGHTS})")
+
+
 def load_checkpoint(directory: str | Path, device: str | torch.device = "cpu"
                     ) -> tuple[VLACfg, MobileManiVLA, Normalizer, PreTrainedTokenizerBase]:
     """The evaluated model: the moving-average weights when the run kept them, else the trained ones."""
     directory = Path(directory)
-    if not (directory / WEIGHTS).is_file() or not (directory / STATE).is_file():
-        raise FileNotFoundError(f"{directory} is not a complete MobileManiVLA checkpoint (no {WEIGHTS} / {STATE})")
+    if not (directory / STATE).is_file():
+        raise FileNotFoundError(f"{directory} is not a complete MobileManiVLA checkpoint (no {STATE})")
     cfg = vla_cfg_from_yaml((directory / "config.yaml").read_text())
     tokenizer = load_tokenizer(directory / "tokenizer")
     model = build_model(cfg, tokenizer, PaliGemmaConfig.from_json_file(directory / "backbone_config.json"))
@@ -95,6 +117,6 @@ def load_checkpoint(directory: str | Path, device: str | torch.device = "cpu"
         prefix = "module."
         state = {k[len(prefix):]: v for k, v in load_file(directory / EMA_WEIGHTS).items() if k.startswith(prefix)}
     else:
-        state = load_file(directory / WEIGHTS)
+        state = trained_weights(directory)
     model.load_state_dict(state)
     return cfg, model.to(device).eval(), Normalizer.load(directory / "normalizer.json"), tokenizer

@@ -9,6 +9,7 @@ from omegaconf import DictConfig, OmegaConf
 from mobilemani_vla.augment import AugmentCfg
 from mobilemani_vla.dit import DIT_PRESETS
 
+DTYPES = ("float32", "bfloat16", "float16")
 ROBOT_ACTION_DIMS = {"g1": 7, "xhand": 18}  # 6 wrist deltas + 1 gripper / 12 hand joints
 CAMERAS = ("head_rgb", "head_depth", "wrist_rgb", "wrist_depth")
 STATES = ("wrist_pose", "grasp_point", "goal_point")
@@ -52,6 +53,9 @@ class ModelCfg:
     text: TextCfg = field(default_factory=TextCfg)
     attn_implementation: str | None = None  # transformers' choice when null (eager for Gemma-2)
     dit: str = "Ti"  # DiT size: CogACT's S, B or L, or Ti for CPU tests
+    # dtype the pretrained backbone's weights load in: bfloat16 halves a 3B model's weights, gradients and AdamW
+    # state on GPUs; the action head stays float32 and gets the cognition feature cast to it.
+    dtype: str = "float32"
     prompt: str = "What action should the robot take to {instruction}?"
 
 
@@ -133,6 +137,7 @@ class VLACfg:
         _choices("inputs.cameras", self.inputs.cameras, CAMERAS)
         _choices("inputs.states", self.inputs.states, STATES)
         _choices("model.dit", [self.model.dit], DIT_PRESETS)
+        _choices("model.dtype", [self.model.dtype], DTYPES)
         if not self.inputs.cameras:
             raise ValueError(f"inputs.cameras must name at least one of {list(CAMERAS)}")
         return self

@@ -18,17 +18,18 @@ from lerobot.datasets.lerobot_dataset import LeRobotDataset
 from torch.utils.data import Dataset
 
 from mobilemani_data import schema
+from mobilemani_data.metadata import check_dataset_files
 from mobilemani_vla.config import VLACfg
 from mobilemani_vla.frame_cache import cached_images
 from mobilemani_vla.normalizer import Normalizer
-from mobilemani_vla.processor import STATE_KEYS, camera_key
+from mobilemani_vla.processor import camera_key, state_features
 
-PAD = f"{schema.ACTION_BASE}_is_pad"
+PAD = f"{schema.ACTION}_is_pad"
 
 
 def vector_keys(states: list[str]) -> list[str]:
     """The normalised vectors a model reads: its action chunk and its state inputs."""
-    return [schema.ACTION_BASE] + [STATE_KEYS[s] for s in states]
+    return [schema.ACTION] + state_features(states)
 
 
 def required_features(cfg: VLACfg) -> list[str]:
@@ -41,10 +42,11 @@ def open_metadata(cfg: VLACfg) -> LeRobotDatasetMetadata:
     if not (root / "meta" / "info.json").is_file():
         raise FileNotFoundError(f"no LeRobot dataset at {root} (set data.root; export one with mobilemani_data)")
     meta = LeRobotDatasetMetadata(cfg.data.repo_id, root=root)
+    check_dataset_files(meta)
     missing = [k for k in required_features(cfg) if k not in meta.features]
     if missing:
         raise KeyError(f"dataset {root} lacks features {missing} needed by inputs {cfg.inputs}")
-    have = tuple(meta.features[schema.ACTION_BASE]["shape"])
+    have = tuple(meta.features[schema.ACTION]["shape"])
     if have != (cfg.action_dim,):
         raise ValueError(f"dataset actions have shape {have} but robot={cfg.robot} needs ({cfg.action_dim},)")
     return meta
@@ -109,8 +111,8 @@ class CachedFrames(Dataset):
         frames = torch.from_numpy(np.array(self.images[row]))  # a copy: the cache is a read-only map
         chunk_rows, pad = self.table.chunk(row, self.chunk_length)
         item = {camera_key(c): frames[k] for k, c in enumerate(self.cameras)}
-        item.update({STATE_KEYS[s]: torch.from_numpy(self.table.columns[STATE_KEYS[s]][row]) for s in self.states})
-        item[schema.ACTION_BASE] = torch.from_numpy(self.table.columns[schema.ACTION_BASE][chunk_rows])
+        item.update({k: torch.from_numpy(self.table.columns[k][row]) for k in state_features(self.states)})
+        item[schema.ACTION] = torch.from_numpy(self.table.columns[schema.ACTION][chunk_rows])
         item[PAD] = torch.from_numpy(pad)
         item["task"] = self.table.tasks[row]
         return item
@@ -136,7 +138,7 @@ class VLAData:
 
 
 def _decoded_frames(cfg: VLACfg, fps: int, episodes: np.ndarray) -> LeRobotDataset:
-    deltas = {schema.ACTION_BASE: [i / fps for i in range(cfg.diffusion.chunk)]}
+    deltas = {schema.ACTION: [i / fps for i in range(cfg.diffusion.chunk)]}
     return LeRobotDataset(cfg.data.repo_id, root=cfg.data.root, episodes=episodes.tolist(), delta_timestamps=deltas,
                           video_backend=cfg.data.video_backend)
 

@@ -7,6 +7,7 @@ from dataclasses import dataclass, field
 from omegaconf import DictConfig, OmegaConf
 
 from mobilemani_rl.envs.config import EnvCfg, env_cfg_from_hydra
+from mobilemani_rl.registry import check_positive
 from mobilemani_rl.tasks import SubsetCfg
 from mobilemani_vla.ensemble import EnsembleCfg
 
@@ -53,8 +54,11 @@ def eval_cfg_from_hydra(cfg: DictConfig) -> EvalCfg:
     plain.pop("hydra", None)
     task = plain.pop("task")
     env = env_cfg_from_hydra(OmegaConf.create({"env": plain.pop("env"), "task": task}))
-    env.reset.recording = True  # realistic scenes, as the dataset was recorded (reference §8b)
+    env.reset.recording = True  # realistic scenes, as the dataset was recorded (docs/reference.md §8b)
     out: EvalCfg = OmegaConf.to_object(OmegaConf.merge(OmegaConf.structured(EvalCfg),
                                                        {**plain, "robot": task["robot"]}))
     out.env = env
+    check_positive({"subset.episodes": out.subset.episodes, "episodes_per_batch": out.episodes_per_batch,
+                    "subset.scenes_per_object": out.subset.scenes_per_object,
+                    "subset.objects_per_category": out.subset.objects_per_category})
     return out

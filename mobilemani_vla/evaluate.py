@@ -1,4 +1,4 @@
-"""Closed-loop evaluation of any policy on MobileManiBench (paper §4, reference §9).
+"""Closed-loop evaluation of any policy on MobileManiBench (paper §4, docs/reference.md §9).
 
     python -m mobilemani_vla.evaluate robot=g1 policy.checkpoint=outputs/vla/g1/default/tiny/checkpoints/step_X
     python -m mobilemani_vla.evaluate eval/policy=scripted eval/protocol=ablation eval/split=seen_unseen
@@ -22,11 +22,12 @@ from pathlib import Path
 import hydra
 from omegaconf import DictConfig, OmegaConf
 
+from mobilemani_rl.assets.robots import get_robot
 from mobilemani_rl.envs.config import TaskCfg
 from mobilemani_rl.envs.mobilemani_env import MobileManiEnv
-from mobilemani_rl.eval import HeadCameraRecorder
-from mobilemani_rl.rl.run_dir import write_json_atomic
+from mobilemani_rl.io import write_json_atomic
 from mobilemani_rl.tasks import Combination, recording_env_cfg, select_combinations
+from mobilemani_rl.video import HeadCameraRecorder
 from mobilemani_vla.eval_config import DEFAULT_IMAGE_SIZE, EvalCfg, eval_cfg_from_hydra
 from mobilemani_vla.harness import run_batch
 from mobilemani_vla.policies.base import EvalPolicy
@@ -59,7 +60,7 @@ def evaluate_block(cfg: EvalCfg, policy: EvalPolicy, combo: Combination, block: 
              "scene": combo.scene, "split": combo.split, "scene_split": combo.scene_split,
              "instruction": combo.instruction, "policy": policy.name, "episode": block * size + slot,
              "seed": seed, "slot": slot, "success": bool(stats.success[slot]), "length": int(stats.length[slot]),
-             "return": float(returns[slot])} for slot in range(size)]
+             "return": float(returns[slot]), "nan_actions": int(stats.nan_actions[slot])} for slot in range(size)]
 
 
 def evaluate(cfg: EvalCfg, policy: EvalPolicy | None = None) -> dict:
@@ -69,6 +70,10 @@ def evaluate(cfg: EvalCfg, policy: EvalPolicy | None = None) -> dict:
                          f"({cfg.episodes_per_batch}) so that every episode keeps its seed")
     combos = select_combinations(cfg.robot, cfg.subset)
     policy = policy or build_policy(cfg.policy)
+    expected = get_robot(cfg.robot).action_dim
+    if policy.action_dim not in (None, expected):
+        raise ValueError(f"{policy.name} predicts {policy.action_dim}-d actions but robot={cfg.robot} takes "
+                         f"{expected}-d ones; evaluate it with the robot it was trained for")
     out = run_dir(cfg)
     results = ResultsFile(out / f"{cfg.split_name}.jsonl")
     write_json_atomic(out / "config.json", {"eval": OmegaConf.to_container(OmegaConf.structured(cfg)),

@@ -36,8 +36,9 @@ class MobileManiVLA(nn.Module):
         self.head = ActionDiffusion(dit, cfg.diffusion)
 
     def condition(self, batch: dict[str, torch.Tensor]) -> tuple[torch.Tensor, torch.Tensor | None]:
-        cognition = self.backbone(batch["pixel_values"], batch["input_ids"], batch["attention_mask"])
-        state = None if self.state_encoder is None else self.state_encoder(batch["state"].to(cognition.dtype))
+        head_dtype = self.head.dit.pos_embed.dtype  # a bfloat16 backbone feeds a float32 head
+        cognition = self.backbone(batch["pixel_values"], batch["input_ids"], batch["attention_mask"]).to(head_dtype)
+        state = None if self.state_encoder is None else self.state_encoder(batch["state"].to(head_dtype))
         return cognition, state
 
     def forward(self, batch: dict[str, torch.Tensor]) -> torch.Tensor:
@@ -59,7 +60,7 @@ def build_model(cfg: VLACfg, tokenizer: PreTrainedTokenizerBase,
     if backbone_config is not None:
         vlm = PaliGemmaModel(backbone_config)
     elif cfg.model.pretrained_path is not None:
-        vlm = load_paligemma(cfg.model.pretrained_path, cfg.model.attn_implementation)
+        vlm = load_paligemma(cfg.model.pretrained_path, cfg.model.attn_implementation, getattr(torch, cfg.model.dtype))
     else:
         vlm = PaliGemmaModel(paligemma_config(cfg.model))
     vocab = vlm.config.text_config.vocab_size

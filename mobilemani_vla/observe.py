@@ -15,8 +15,7 @@ from mobilemani_rl.render import CameraRenderCfg, CameraRenderer
 from mobilemani_vla.policies.base import ACTIVE, PRIVILEGED_STATE, TASK, Observation
 
 IMAGE_KEYS = {schema.image_key(c, m): (c, m) for c in schema.CAMERAS for m in schema.MODALITIES}
-VECTOR_KEYS = (schema.STATE, schema.WRIST_POSE_BASE, schema.GRASP_POINT_BASE, schema.GOAL_POINT_BASE,
-               PRIVILEGED_STATE)
+VECTOR_KEYS = (schema.STATE, schema.WORLD_STATE, schema.GRASP_POINT_BASE, schema.GOAL_POINT_BASE, PRIVILEGED_STATE)
 KNOWN_KEYS = frozenset(IMAGE_KEYS) | frozenset(VECTOR_KEYS) | {TASK}
 
 

@@ -9,15 +9,9 @@ import torch
 
 from mobilemani_data import schema
 from mobilemani_vla.checkpoint import load_checkpoint
-from mobilemani_vla.config import STATES, VLACfg
+from mobilemani_vla.config import VLACfg
 from mobilemani_vla.model import MobileManiVLA
-from mobilemani_vla.processor import STATE_DIMS, STATE_KEYS, VLAProcessor, camera_key
-
-# The `state` vector handed to the policy: every state input in this order (12 values); a model reads the ones
-# its config enables.
-STATE_SLICES = {name: slice(start, start + STATE_DIMS[name])
-                for name, start in zip(STATES, np.cumsum([0] + [STATE_DIMS[s] for s in STATES]), strict=False)}
-FULL_STATE_DIM = sum(STATE_DIMS.values())
+from mobilemani_vla.processor import VLAProcessor, camera_key, state_features
 
 
 class VLAPolicy:
@@ -39,31 +33,34 @@ class VLAPolicy:
     def cameras(self) -> list[str]:
         return self.cfg.inputs.cameras
 
-    def predict_action_chunk(self, images: dict[str, np.ndarray], instruction: str, state: np.ndarray,
+    @property
+    def vector_inputs(self) -> list[str]:
+        """The dataset's vector features this policy's state inputs are read from."""
+        return state_features(self.cfg.inputs.states)
+
+    def predict_action_chunk(self, images: dict[str, np.ndarray], instruction: str, vectors: dict[str, np.ndarray],
                              generator: torch.Generator | None = None) -> np.ndarray:
         """images: camera name ("head_rgb", "wrist_depth", ...) -> (H, W, 3) uint8, at least this policy's
-        cameras; state: (12,) wrist pose (6), first-frame grasp point (3), goal point (3), all in the base frame.
-        Returns (chunk, action_dim) base-frame actions in the dataset's units."""
+        cameras; vectors: dataset feature name -> (d,) values, at least `vector_inputs` (the frame builder,
+        mobilemani_data.frame, makes both). Returns (chunk, action_dim) base-frame actions in the dataset's units."""
         batched = {c: np.asarray(v)[None] for c, v in images.items()}
-        return self.predict_action_chunks(batched, [instruction], np.asarray(state)[None], generator)[0]
+        return self.predict_action_chunks(batched, [instruction], {k: np.asarray(v)[None] for k, v in vectors.items()},
+                                          generator)[0]
 
-    def predict_action_chunks(self, images: dict[str, np.ndarray], instructions: list[str], states: np.ndarray,
-                              generator: torch.Generator | None = None) -> np.ndarray:
-        """Batched `predict_action_chunk`: images (B, H, W, 3), B instructions, states (B, 12) -> (B, chunk, A)."""
-        missing = [c for c in self.cameras if c not in images]
+    def predict_action_chunks(self, images: dict[str, np.ndarray], instructions: list[str],
+                              vectors: dict[str, np.ndarray], generator: torch.Generator | None = None) -> np.ndarray:
+        """Batched `predict_action_chunk`: images (B, H, W, 3), B instructions, vectors (B, d) -> (B, chunk, A)."""
+        missing = [c for c in self.cameras if c not in images] + [k for k in self.vector_inputs if k not in vectors]
         if missing:
-            raise KeyError(f"missing camera images {missing}; this policy reads {self.cameras}")
-        states = np.asarray(states, np.float32)
-        if states.shape != (len(instructions), FULL_STATE_DIM):
-            raise ValueError(f"states must have shape (batch, {FULL_STATE_DIM}) (wrist pose, grasp point, goal "
-                             f"point), got {states.shape}")
+            raise KeyError(f"missing inputs {missing}; this policy reads cameras {self.cameras} and vectors "
+                           f"{self.vector_inputs}")
         frames = []
         for i, instruction in enumerate(instructions):
             frame = {camera_key(c): torch.from_numpy(np.ascontiguousarray(images[c][i])).permute(2, 0, 1).float()
                      / 255.0 for c in self.cameras}
-            frame.update({STATE_KEYS[s]: torch.from_numpy(states[i, STATE_SLICES[s]]) for s in self.cfg.inputs.states})
+            frame.update({k: torch.from_numpy(np.asarray(vectors[k][i], np.float32)) for k in self.vector_inputs})
             frame["task"] = instruction
             frames.append(frame)
         batch = {k: v.to(self.device) for k, v in self.processor(frames).items()}
         chunks = self.model.predict(batch, generator)
-        return self.processor.normalizer.unnormalize(schema.ACTION_BASE, chunks).cpu().numpy()
+        return self.processor.normalizer.unnormalize(schema.ACTION, chunks).cpu().numpy()

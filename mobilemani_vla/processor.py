@@ -16,9 +16,17 @@ from transformers import PreTrainedTokenizerBase
 from mobilemani_data import schema
 from mobilemani_vla.normalizer import Normalizer
 
-STATE_KEYS = {"wrist_pose": schema.WRIST_POSE_BASE, "grasp_point": schema.GRASP_POINT_BASE,
-              "goal_point": schema.GOAL_POINT_BASE}
-STATE_DIMS = {"wrist_pose": schema.WRIST_POSE_DIM, "grasp_point": 3, "goal_point": 3}
+# Each state input -> (the dataset feature holding it, its part of that feature). Normalisation bounds are per
+# feature, so a part is normalised with its feature's bounds.
+STATE_SOURCES = {"wrist_pose": (schema.STATE, slice(0, schema.WRIST_POSE_DIM)),
+                 "grasp_point": (schema.GRASP_POINT_BASE, slice(0, 3)),
+                 "goal_point": (schema.GOAL_POINT_BASE, slice(0, 3))}
+STATE_DIMS = {name: part.stop - part.start for name, (_, part) in STATE_SOURCES.items()}
+
+
+def state_features(states: list[str]) -> list[str]:
+    """The dataset features the state inputs `states` are read from, each once."""
+    return list(dict.fromkeys(STATE_SOURCES[s][0] for s in states))
 WRIST_DELTA_DIMS = 6  # action[0:6] are wrist deltas; action[6:] absolute gripper/hand targets
 
 
@@ -61,17 +69,17 @@ class VLAProcessor:
                              self.image_size)
 
     def state(self, frame: dict) -> torch.Tensor:
-        parts = [self.normalizer.normalize(STATE_KEYS[s], torch.as_tensor(frame[STATE_KEYS[s]]))
-                 for s in self.states]
+        parts = [self.normalizer.normalize(key, torch.as_tensor(frame[key]))[..., part]
+                 for key, part in (STATE_SOURCES[s] for s in self.states)]
         return torch.cat(parts, dim=-1)
 
     def actions(self, frame: dict) -> torch.Tensor:
         """Normalised chunk (N, A). Rows past the episode end (LeRobot repeats the last action there) get the
         normalised zero wrist delta, i.e. "hold still", and keep the last gripper/hand target. As in CogACT's
         loader, the model then learns to stop at the end of a task, and the loss keeps all B x N x A terms."""
-        chunk = self.normalizer.normalize(schema.ACTION_BASE, torch.as_tensor(frame[schema.ACTION_BASE]))
-        pad = torch.as_tensor(frame[f"{schema.ACTION_BASE}_is_pad"], dtype=torch.bool)
-        still = self.normalizer.normalize(schema.ACTION_BASE, torch.zeros(chunk.shape[-1]))[:WRIST_DELTA_DIMS]
+        chunk = self.normalizer.normalize(schema.ACTION, torch.as_tensor(frame[schema.ACTION]))
+        pad = torch.as_tensor(frame[f"{schema.ACTION}_is_pad"], dtype=torch.bool)
+        still = self.normalizer.normalize(schema.ACTION, torch.zeros(chunk.shape[-1]))[:WRIST_DELTA_DIMS]
         chunk[pad, :WRIST_DELTA_DIMS] = still
         return chunk
 
@@ -86,6 +94,6 @@ class VLAProcessor:
                  **self.tokenize([f["task"] for f in frames])}
         if self.states:
             batch["state"] = torch.stack([self.state(f) for f in frames])
-        if schema.ACTION_BASE in frames[0]:
+        if schema.ACTION in frames[0]:
             batch["actions"] = torch.stack([self.actions(f) for f in frames])
         return batch

@@ -91,4 +91,6 @@ def summarize(records: list[dict]) -> dict:
         "per_category": _grouped(records, lambda r: r["category"]),
         "per_category_skill_group": _grouped(records, lambda r: f"{r['category']}|{SKILL_GROUPS[r['skill']]}"),
         "episodes": len(records),
+        # NaN action entries the policy produced (the env applies them as 0, as the reference does)
+        "nan_action_entries": sum(r.get("nan_actions", 0) for r in records),
     }

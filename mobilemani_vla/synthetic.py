@@ -43,14 +43,14 @@ def write_synthetic_dataset(root: Path, robot: str = "g1", episodes: int = 1, le
             frame = {schema.image_key(c, m): _image(phase, k, height, width)
                      for k, (c, m) in enumerate((c, m) for c in schema.CAMERAS for m in schema.MODALITIES)}
             frame.update({
-                schema.STATE: np.concatenate([np.full(12, phase), np.zeros(hand)]).astype(np.float32),
-                schema.WRIST_POSE_BASE: np.concatenate(
-                    [[0.4 + 0.2 * phase, 0.1, 0.8 - 0.1 * phase], rotation_6d(quat_from_euler(np.array([0.0, phase, 0.0])))]
-                ).astype(np.float32),
+                schema.STATE: np.concatenate(
+                    [[0.4 + 0.2 * phase, 0.1, 0.8 - 0.1 * phase], rotation_6d(quat_from_euler(np.array([0.0, phase, 0.0]))),
+                     np.zeros(hand)]).astype(np.float32),
+                schema.ACTION: wave,
+                schema.WORLD_STATE: np.concatenate([np.full(12, phase), np.zeros(hand)]).astype(np.float32),
+                schema.WORLD_ACTION: wave,
                 schema.GRASP_POINT_BASE: offset,
                 schema.GOAL_POINT_BASE: offset + np.float32(0.1),
-                schema.ACTION: wave,
-                schema.ACTION_BASE: wave,
                 "task": TASKS[episode % len(TASKS)],
             })
             ds.add_frame(frame)

@@ -2,7 +2,7 @@
 
 Runs through `accelerate`: single process on a CPU; on GPUs `accelerate launch --multi_gpu -m mobilemani_vla.train
 vla/model=paligemma2_3b vla/train=paper ...` (DDP, bf16 from train.mixed_precision), or an FSDP accelerate config
-with `fsdp_state_dict_type: FULL_STATE_DICT` so that checkpoints hold one model.safetensors. Checkpoints
+(accelerate's FSDP files, plus the gathered weights as model.safetensors, which evaluation loads). Checkpoints
 (safetensors + config + normaliser + tokenizer) go to train.output_dir/checkpoints; a run resumes from the
 newest one there unless train.resume=false.
 """
@@ -34,6 +34,7 @@ from mobilemani_vla.checkpoint import (
     load_ema,
     publish,
     save_artifacts,
+    save_gathered_weights,
 )
 from mobilemani_vla.config import VLACfg, vla_cfg_from_hydra, vla_cfg_from_yaml
 from mobilemani_vla.data import fit_normalizer, open_data, open_metadata
@@ -161,7 +162,9 @@ def train(cfg: VLACfg) -> TrainResult:
         final = checkpoint_dir(output_dir, at)
         tmp = final.with_name(f".tmp_{final.name}")
         accelerator.save_state(str(tmp))  # collective: every process takes part
+        weights = accelerator.get_state_dict(model)  # collective too; gathers FSDP shards on the main process
         if accelerator.is_main_process:
+            save_gathered_weights(tmp, weights)
             save_artifacts(tmp, cfg, accelerator.unwrap_model(model), normalizer, tokenizer, at, dataset_info, ema)
             publish(tmp, final, cfg.train.keep_checkpoints)
         accelerator.wait_for_everyone()

@@ -71,7 +71,9 @@ def test_labels_are_shifted_and_states_drop_the_reset():
                   state=np.zeros((t, 4)), action=rng.uniform(-1, 1, (t, 7)), success=np.ones(t, bool),
                   goal_pos=np.array([0.0, 0.0, 1.0]))
     vectors = episode_vectors(Episode(arrays), num_hand_joints=1, convention="conjugate")
-    assert np.allclose(vectors["action"], arrays["action"][1:])
-    assert np.allclose(vectors["action_base"], arrays["action"][1:])  # identity base
+    assert np.allclose(vectors["world.action"], arrays["action"][1:])
+    assert np.allclose(vectors["action"], arrays["action"][1:])  # identity base
     assert np.allclose(vectors["observation.state"][:, -1], arrays["joint_pos"][1:, -1])
-    assert np.allclose(vectors["observation.grasp_point_base"], arrays["grasp_pos"][0] - arrays["base_pos"][1:])
+    assert np.allclose(vectors["observation.state"][:, :3], arrays["hand_pos"][1:] - arrays["base_pos"][1:])
+    assert np.allclose(vectors["world.state"][:, -1], arrays["joint_pos"][1:, -1])
+    assert np.allclose(vectors["object.grasp_point_base"], arrays["grasp_pos"][0] - arrays["base_pos"][1:])

@@ -40,15 +40,15 @@ def test_every_combination_has_exactly_the_requested_successes(tiny):
 
 
 def test_lerobot_reads_back_16_step_action_chunks(tiny):
-    deltas = {schema.ACTION_BASE: [i / schema.FPS for i in range(CHUNK)]}
+    deltas = {schema.ACTION: [i / schema.FPS for i in range(CHUNK)]}
     ds = LeRobotDataset(tiny.export.repo_id, root=tiny.dataset_dir, delta_timestamps=deltas, video_backend="pyav")
     lines = read_episodes(Path(tiny.dataset_dir))
     assert ds.num_episodes == 16 and len(ds) == sum(line["length"] for line in lines)
     assert set(ds.meta.tasks.index) == {"open dishwasher", "close dishwasher", "pull cart", "push cart"}
     last = int(ds.meta.episodes["dataset_to_index"][0]) - 1
     item = ds[last - 3]
-    assert item[schema.ACTION_BASE].shape == (CHUNK, 7)
-    assert item[f"{schema.ACTION_BASE}_is_pad"].tolist() == [False] * 4 + [True] * (CHUNK - 4)
+    assert item[schema.ACTION].shape == (CHUNK, 7)
+    assert item[f"{schema.ACTION}_is_pad"].tolist() == [False] * 4 + [True] * (CHUNK - 4)
     assert item[schema.image_key("wrist", "seg")].shape == (3, 64, 64)
     seg = (item[schema.image_key("head", "seg")] * 255 / schema.SEGMENTATION_SCALE).round()
     assert set(seg.unique().tolist()) <= {0.0, 1.0, 2.0}
@@ -60,10 +60,10 @@ def test_frame_labels_are_the_action_taken_after_the_frame(tiny):
     ds = LeRobotDataset(tiny.export.repo_id, root=tiny.dataset_dir, video_backend="pyav")
     frame = ds[0]
     a = episode.arrays
-    assert np.allclose(frame[schema.ACTION].numpy(), a["action"][FIRST_FRAME], atol=1e-6)
+    assert np.allclose(frame[schema.WORLD_ACTION].numpy(), a["action"][FIRST_FRAME], atol=1e-6)
     base = action_to_base(a["action"][FIRST_FRAME], a["base_quat"][FIRST_FRAME])
-    assert np.allclose(frame[schema.ACTION_BASE].numpy(), base, atol=1e-5)
-    assert np.allclose(frame[schema.STATE].numpy()[:3], a["hand_pos"][FIRST_FRAME], atol=1e-6)
+    assert np.allclose(frame[schema.ACTION].numpy(), base, atol=1e-5)
+    assert np.allclose(frame[schema.WORLD_STATE].numpy()[:3], a["hand_pos"][FIRST_FRAME], atol=1e-6)
     assert line["length"] == episode.length - FIRST_FRAME
     for key in schema.EPISODE_METADATA:
         assert key in line
@@ -88,3 +88,25 @@ def test_stats_report_mean_episode_length(tiny):
     assert set(table["skill"]) == {"open", "close", "pull", "push"}
     assert set(table["category"]) == {"dishwasher", "cart"}
     print(markdown(table))
+
+
+def test_export_writes_only_the_chosen_streams_and_stock_policies_see_the_right_features(tiny, tmp_path):
+    """export.cameras / export.modalities pick what a stock LeRobot policy trains on; LeRobot then types exactly
+    `action` as the output and `observation.state` plus the chosen images as inputs."""
+    from dataclasses import replace
+
+    from lerobot.configs.types import FeatureType
+    from lerobot.utils.feature_utils import dataset_to_policy_features
+
+    cfg = replace(tiny, dataset_dir=str(tmp_path / "lerobot"),
+                  export=replace(tiny.export, cameras=["wrist"], modalities=["rgb", "depth"]))
+    export(cfg)
+    assert validate(cfg) == []
+    ds = LeRobotDataset(cfg.export.repo_id, root=cfg.dataset_dir, video_backend="pyav")
+    assert ds.meta.video_keys == [schema.image_key("wrist", "rgb"), schema.image_key("wrist", "depth")]
+    policy = dataset_to_policy_features(ds.meta.features)
+    assert [k for k, f in policy.items() if f.type is FeatureType.ACTION] == [schema.ACTION]
+    assert [k for k, f in policy.items() if f.type is FeatureType.STATE] == [schema.STATE]
+    assert policy[schema.STATE].shape == (schema.state_dim(1),)
+    with pytest.raises(ValueError, match=r"export.modalities \['rgb', 'ir'\].*'seg'"):
+        export(replace(cfg, export=replace(cfg.export, modalities=["rgb", "ir"])))

@@ -178,3 +178,9 @@ def test_tiny_vla_runs_the_protocol_end_to_end(tmp_path):
     config = json.loads((run / "config.json").read_text())
     assert "observation.images.wrist_depth" in config["policy_inputs"]
     assert len(list((run / "videos").rglob("*.mp4"))) == 1
+    assert summary["nan_action_entries"] == 0 and all(r["nan_actions"] == 0 for r in records)
+    # A g1 checkpoint on xhand stops before anything is written (7-d actions for an 18-d robot).
+    xhand = eval_cfg(tmp_path / "xhand", [f"policy.checkpoint={checkpoint}", "robot=xhand", "name=tiny_vla"])
+    with pytest.raises(ValueError, match="7-d actions but robot=xhand takes 18-d"):
+        evaluate(xhand)
+    assert not (tmp_path / "xhand").exists()

@@ -47,12 +47,12 @@ def act_dir(tmp_path_factory) -> Path:
 
 def test_lerobot_act_policy_runs_through_the_harness(act_dir):
     policy = LeRobotEvalPolicy(act_dir, rename={})
-    assert policy.name == "lerobot_act" and policy.action_frame == "world"
+    assert policy.name == "lerobot_act" and policy.action_frame == "base"
     assert policy.inputs == {HEAD_RGB, schema.STATE, "task"}
     env = MobileManiEnv(EnvCfg(num_envs=2, seed=0, episode_length=6, task=TaskCfg(object="test/box", skill="open")))
     stats = run_batch(env, policy, 0, "open box", EnsembleCfg(), image_size=(48, 64))
     assert stats.length.max() <= 6 and stats.success.shape == (2,)
-    obs = {HEAD_RGB: np.zeros((3, 48, 64, 3), np.uint8), schema.STATE: np.zeros((3, 13), np.float32),
+    obs = {HEAD_RGB: np.zeros((3, 48, 64, 3), np.uint8), schema.STATE: np.zeros((3, schema.state_dim(1)), np.float32),
            "task": ["open box"] * 3, "active": np.array([True, False, True])}
     chunks = policy.act(obs)
     assert chunks.shape == (3, 16, 7) and np.all(chunks[1] == 0) and np.all(np.isfinite(chunks))

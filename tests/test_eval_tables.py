@@ -3,7 +3,7 @@
 import json
 from pathlib import Path
 
-from scripts.vla_tables import PROTOCOL_SPLIT, bar_plots, build_tables, load
+from mobilemani_vla.tables import PROTOCOL_SPLIT, bar_plots, build_tables, load
 
 
 def write_run(root: Path, robot: str, run: str, split: str, outcomes: dict[tuple[str, str, str], list[bool]]):

@@ -28,7 +28,7 @@ from mobilemani_vla.data import fit_normalizer, open_data
 from mobilemani_vla.observe import IMAGE_KEYS, ObservationBuilder
 from mobilemani_vla.policies.base import ACTIVE, TASK
 
-VECTORS = (schema.STATE, schema.WRIST_POSE_BASE, schema.GRASP_POINT_BASE, schema.GOAL_POINT_BASE)
+VECTORS = (schema.STATE, schema.WORLD_STATE, schema.GRASP_POINT_BASE, schema.GOAL_POINT_BASE)
 SIZE = 64
 
 
@@ -98,7 +98,7 @@ def test_state_encoding_is_continuous_and_unclipped(recorded):
     normalizer = fit_normalizer(data.table, rows, cfg.inputs.states)
     for key in normalizer.bounds:
         assert normalizer.clipped_fraction(key, data.table.columns[key][rows]) < 0.01, key
-    pose = data.table.columns[schema.WRIST_POSE_BASE][rows]
+    pose = data.table.columns[schema.STATE][rows][:, :schema.WRIST_POSE_DIM]
     np.testing.assert_allclose(np.linalg.norm(pose[:, 3:6], axis=1), 1.0, atol=1e-5)
     np.testing.assert_allclose(np.linalg.norm(pose[:, 6:9], axis=1), 1.0, atol=1e-5)
     assert np.abs(np.diff(pose, axis=0)).max() < 0.1  # one control step moves the wrist a few mm / degrees

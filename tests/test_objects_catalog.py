@@ -12,7 +12,7 @@ from mobilemani_rl.assets.objects import CATALOG, SPLITS, catalog_ids, check_ski
 from mobilemani_rl.assets.objects.catalog import make_object
 from mobilemani_rl.registry import UnknownNameError
 
-EXPECTED = {  # DESIGN.md: train + test per category
+EXPECTED = {  # docs/reference.md §6f: train + test per category
     "box": (10, 4), "toilet": (25, 5), "laptop": (30, 6), "trashcan": (30, 7), "dishwasher": (20, 5),
     "oven": (10, 2), "microwave": (3, 2), "refrigerator": (40, 12), "washing_machine": (10, 2), "car": (10, 2),
     "safe": (15, 4), "fridge": (8, 2), "cabinet": (20, 2), "window": (15, 3), "lever_door": (18, 4),

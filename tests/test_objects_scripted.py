@@ -5,15 +5,10 @@ A (robot, category, skill) passes when every sampled object succeeds in >= 60 % 
 
 from __future__ import annotations
 
-import sys
-from pathlib import Path
-
 import pytest
 
 from mobilemani_rl.assets.objects import CATEGORIES, get_object
-
-sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "scripts"))
-from scripted_success_table import PASS_RATE, episode_success, sample_objects  # noqa: E402
+from mobilemani_rl.scripted_table import PASS_RATE, episode_success, sample_objects
 
 CASES = [(robot, category, skill) for robot in ("g1", "xhand") for category in CATEGORIES
          for skill in get_object(sample_objects(category, 1)[0]).skills]

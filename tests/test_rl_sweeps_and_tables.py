@@ -5,6 +5,7 @@ from pathlib import Path
 
 from hydra import compose, initialize_config_dir
 
+from mobilemani_rl import teacher_tables
 from mobilemani_rl.tables import Table
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -19,8 +20,6 @@ def test_slurm_launcher_config_composes():
 
 
 def test_tables_from_evaluation_files(tmp_path, monkeypatch, capsys):
-    import scripts.rl_tables as rl_tables
-
     def write(run: str, robot: str, skill: str, objects: dict[str, float]) -> None:
         run_dir = tmp_path / run
         run_dir.mkdir(parents=True)
@@ -31,8 +30,8 @@ def test_tables_from_evaluation_files(tmp_path, monkeypatch, capsys):
     write("a", "g1", "open", {"box/0000": 1.0, "box/0001": 0.5})
     write("b", "xhand", "close", {"laptop/0000": 0.25})
     write("c", "g1", "pick", {"holistic/0020": 0.8})
-    monkeypatch.setattr("sys.argv", ["rl_tables", str(tmp_path), "--out", str(tmp_path / "out")])
-    rl_tables.main()
+    monkeypatch.setattr("sys.argv", ["teacher_tables", str(tmp_path), "--out", str(tmp_path / "out")])
+    teacher_tables.main()
     by_skill = (tmp_path / "out" / "rl_by_skill.md").read_text()
     assert "| Open | 75.0 | - | 86.6 | 91.9 |" in by_skill
     assert "| Mean | 76.7 | 25.0 | 89.6 | 92.9 |" in by_skill

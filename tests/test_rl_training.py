@@ -12,7 +12,7 @@ import pytest
 from hydra import compose, initialize_config_dir
 
 from mobilemani_rl.eval import evaluate
-from mobilemani_rl.rl.run_dir import ConfigMismatchError, latest_checkpoint
+from mobilemani_rl.rl.run_dir import ConfigMismatchError, latest_checkpoint, save_or_check_config
 from mobilemani_rl.train import train
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -50,6 +50,18 @@ def test_resume_with_another_config_is_refused(tmp_path):
     with pytest.raises(ConfigMismatchError, match="different rl config"):
         train(compose_rl(["rl/ppo=tiny", f"run_dir={run_dir}", "rl.ppo.max_iterations=1",
                           "rl.ppo.learning_rate=0.1"]))
+    train(compose_rl(["rl/ppo=tiny", f"run_dir={run_dir}", "rl.ppo.max_iterations=1"]))  # finishes it
+    with pytest.raises(ConfigMismatchError, match="different rl config"):  # not "nothing to do"
+        train(compose_rl(["rl/ppo=tiny", f"run_dir={run_dir}", "rl.ppo.max_iterations=1",
+                          "rl.ppo.learning_rate=0.1"]))
+
+
+def test_a_run_that_stopped_before_its_first_checkpoint_takes_the_corrected_config(tmp_path):
+    run_dir = tmp_path / "run"
+    save_or_check_config(run_dir, compose_rl(["rl/ppo=tiny", f"run_dir={run_dir}", "rl.ppo.learning_rate=-1"]),
+                         ("rl",))  # what a run that crashed at start leaves behind
+    train(compose_rl(["rl/ppo=tiny", f"run_dir={run_dir}", "rl.ppo.max_iterations=1"]))
+    assert (run_dir / "result.json").exists()
 
 
 def test_killed_training_resumes_from_last_checkpoint(tmp_path):

@@ -9,11 +9,11 @@ import torch
 from hydra import compose, initialize_config_dir
 
 from mobilemani_data import schema
-from mobilemani_vla.config import STATES, VLACfg, vla_cfg_from_hydra
+from mobilemani_vla.config import VLACfg, vla_cfg_from_hydra
 from mobilemani_vla.data import fit_normalizer, open_data
 from mobilemani_vla.frame_cache import cache_dir
 from mobilemani_vla.model import build_model
-from mobilemani_vla.policy import FULL_STATE_DIM, VLAPolicy
+from mobilemani_vla.policy import VLAPolicy
 from mobilemani_vla.processor import VLAProcessor, resize_images
 from mobilemani_vla.synthetic import write_synthetic_dataset
 from mobilemani_vla.tokenizer import build_word_tokenizer
@@ -49,7 +49,7 @@ def test_forward_backward_on_a_dataset_batch(dataset_root, tmp_path):
     assert batch["actions"].shape == (4, 16, 7) and batch["state"].shape == (4, 9)
     assert batch["actions"].abs().max() <= 1.0
     # Padded rows: the normalised zero wrist delta ("hold still"), the last gripper target kept.
-    still = normalizer.normalize(schema.ACTION_BASE, torch.zeros(7))
+    still = normalizer.normalize(schema.ACTION, torch.zeros(7))
     assert torch.allclose(batch["actions"][3, 1:, :6], still[:6].expand(15, 6))
     assert torch.allclose(batch["actions"][3, 1:, 6], batch["actions"][3, 0, 6].expand(15))
     loss = model(batch)
@@ -107,19 +107,20 @@ def test_checkpoint_resume_and_policy(dataset_root, tmp_path):
     policy = VLAPolicy.load(resumed.checkpoint)
     frame = open_data(cfg, 32, progress=False).train[5]
     images = {c: frame[f"observation.images.{c}"].permute(1, 2, 0).numpy() for c in policy.cameras}
-    state = np.concatenate([frame[schema.WRIST_POSE_BASE], frame[schema.GRASP_POINT_BASE],
-                            frame[schema.GOAL_POINT_BASE]])
-    assert state.shape == (FULL_STATE_DIM,) and len(STATES) == 3
-    chunk = policy.predict_action_chunk(images, "open box", state, torch.Generator().manual_seed(0))
-    again = policy.predict_action_chunk(images, "open box", state, torch.Generator().manual_seed(0))
+    vectors = {k: frame[k].numpy() for k in policy.vector_inputs}
+    assert policy.vector_inputs == [schema.STATE, schema.GRASP_POINT_BASE, schema.GOAL_POINT_BASE]
+    chunk = policy.predict_action_chunk(images, "open box", vectors, torch.Generator().manual_seed(0))
+    again = policy.predict_action_chunk(images, "open box", vectors, torch.Generator().manual_seed(0))
     assert chunk.shape == (16, 7) and np.array_equal(chunk, again)
-    lo, hi = policy.processor.normalizer.bounds[schema.ACTION_BASE]
+    lo, hi = policy.processor.normalizer.bounds[schema.ACTION]
     assert np.all(chunk >= lo - 1e-5) and np.all(chunk <= hi + 1e-5)
     # The reloaded weights are the trained ones.
     trained = resumed.model.state_dict()
     assert all(torch.equal(v, trained[k]) for k, v in policy.model.state_dict().items())
     with pytest.raises(KeyError, match="wrist_depth"):
-        policy.predict_action_chunk({"head_rgb": images["head_rgb"]}, "open box", state)
+        policy.predict_action_chunk({"head_rgb": images["head_rgb"]}, "open box", vectors)
+    with pytest.raises(KeyError, match="object.goal_point_base"):
+        policy.predict_action_chunk(images, "open box", {schema.STATE: vectors[schema.STATE]})
 
 
 @pytest.mark.slow

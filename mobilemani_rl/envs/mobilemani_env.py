@@ -1,6 +1,6 @@
 """The batched MobileManiRL environment: N MuJoCo simulations in one `mujoco.batch.Batch`.
 
-Step order follows the reference DirectRLEnv (§1): action → IK → physics substeps → counters → dones →
+Step order follows the reference DirectRLEnv (docs/reference.md §1): action → IK → physics substeps → counters → dones →
 rewards → resets → observations. Everything above physics is vectorised numpy over envs.
 """
 
@@ -15,6 +15,7 @@ import numpy as np
 from mobilemani_rl.assets.objects import ObjectKind, check_skill, get_object
 from mobilemani_rl.assets.robots import get_robot
 from mobilemani_rl.assets.scenes import ROOM_BODY, RoomJitterCfg, get_placement, sample_room_offsets
+from mobilemani_rl.envs.actions import checked_actions
 from mobilemani_rl.envs.config import EnvCfg
 from mobilemani_rl.envs.frames import FrameReader, Frames, SimView
 from mobilemani_rl.envs.ik import chain_jacobian, dls_step, wrist_pose_error
@@ -22,9 +23,10 @@ from mobilemani_rl.envs.observations import compute_observation, normalize_to_li
 from mobilemani_rl.envs.resets import sample_episode_start
 from mobilemani_rl.envs.rewards import RewardContext, TaskDistances, grasp_flag, reward_terms, total_reward
 from mobilemani_rl.envs.scene import build_scene
+from mobilemani_rl.registry import check_positive
 from mobilemani_rl.rotations import quat_from_euler, quat_mul, vector_norm
 
-# The palm-rotation reach term is on only for these (category, skill) pairs (reference §5b).
+# The palm-rotation reach term is on only for these (category, skill) pairs (docs/reference.md §5b).
 PALM_ROTATION_TASKS = {("holistic", "pick"), ("refrigerator", "open")}
 PALM_ROTATION_PRE = quat_from_euler(np.array([0.0, np.pi / 2, 0.0]))  # +90° about world y
 
@@ -40,12 +42,14 @@ class StepResult:
     done_ids: np.ndarray  # envs whose episode ended this step (they were reset; `obs` is their first one)
     reward_terms: dict[str, np.ndarray]  # weighted reward terms per env
     log: dict[str, float | np.ndarray]
+    nan_actions: np.ndarray  # (n,) int, NaN action entries this step (applied as 0)
 
 
 class MobileManiEnv:
     """Batched env for one (robot, object, skill) task."""
 
     def __init__(self, cfg: EnvCfg) -> None:
+        check_positive({"num_envs": cfg.num_envs})  # MuJoCo's own message ("nsim must be positive") names no key
         self.cfg = cfg
         self.robot = get_robot(cfg.task.robot)
         self.object = get_object(cfg.task.object)
@@ -136,11 +140,11 @@ class MobileManiEnv:
         self.last_action[ids] = 0.0
 
     # ------------------------------------------------------------------ step
-    def apply_action(self, actions: np.ndarray) -> np.ndarray:
-        """Clamp, run one DLS IK step, and write joint targets; returns the applied action."""
+    def apply_action(self, actions: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """Check and clamp, run one DLS IK step, and write joint targets; returns the applied action and the
+        number of NaN entries per env."""
         idx, v, acfg = self.index, self.view, self.cfg.actions
-        actions = np.clip(np.asarray(actions, dtype=np.float64), -1.0, 1.0)
-        actions[np.isnan(actions)] = 0.0
+        actions, nan_count = checked_actions(actions, self.num_envs, self.num_actions)
         jacobian = chain_jacobian(self.frames.hand_pos, v.xanchor[:, idx.ik_joint], v.xaxis[:, idx.ik_joint],
                                   idx.ik_is_hinge)
         error = wrist_pose_error(actions, acfg.pos_scale, acfg.rot_scale)
@@ -151,10 +155,10 @@ class MobileManiEnv:
         v.ctrl[:, idx.ik_act] = targets
         v.ctrl[:, idx.hand_act] = hand
         v.ctrl[:, idx.mimic_act] = hand[:, idx.mimic_leader]
-        return actions
+        return actions, nan_count
 
     def step(self, actions: np.ndarray) -> StepResult:
-        actions = self.apply_action(actions)
+        actions, nan_count = self.apply_action(actions)
         self.batch.step(nstep=self.cfg.physics.substeps, stage=mujoco.mjtStage.mjSTAGE_VEL)
         self.episode_length_buf += 1
         self.env_times += 1
@@ -162,7 +166,7 @@ class MobileManiEnv:
         frames = self.frames = self.frame_reader.read()
         scfg = self.cfg.success
         dist = self.task_distances = TaskDistances.measure(frames, self.goal_pos)
-        # Truncation reads the success counter before this step's success is added (reference §5c).
+        # Truncation reads the success counter before this step's success is added (docs/reference.md §5c).
         truncated = (self.episode_length_buf >= self.max_episode_length - 1) | (
             self.success_count >= scfg.hold_steps)
         terminated = (dist.hand > scfg.max_hand_distance) | (
@@ -193,7 +197,8 @@ class MobileManiEnv:
         if done.size:
             self._reset_envs(done)
         self.obs = self._observe()
-        return StepResult(self.obs, reward, terminated, truncated, success_flag, final_obs, done, weighted, log)
+        return StepResult(self.obs, reward, terminated, truncated, success_flag, final_obs, done, weighted, log,
+                          nan_count)
 
     def _observe(self, ids: np.ndarray | None = None) -> np.ndarray:
         if ids is None:

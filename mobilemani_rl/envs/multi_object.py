@@ -69,4 +69,5 @@ class MultiObjectEnv:
             done_ids=np.concatenate([p.done_ids + lo for p, lo in zip(parts, self.bounds[:-1], strict=True)]),
             reward_terms={k: np.concatenate([p.reward_terms[k] for p in parts]) for k in parts[0].reward_terms},
             log=log,
+            nan_actions=np.concatenate([p.nan_actions for p in parts]),
         )

@@ -1,4 +1,4 @@
-"""Reward terms, grasp flag and success (reference §5). Every term is returned separately for logging."""
+"""Reward terms, grasp flag and success (docs/reference.md §5). Every term is returned separately for logging."""
 
 from __future__ import annotations
 
@@ -16,12 +16,12 @@ from mobilemani_rl.rotations import (
     vector_norm,
 )
 
-GRASP_DIRECTION = np.array([0.0, 1.0, 0.0])  # articulated and YCB tasks alike (reference §5a)
+GRASP_DIRECTION = np.array([0.0, 1.0, 0.0])  # articulated and YCB tasks alike (docs/reference.md §5a)
 
 
 @dataclass
 class TaskDistances(EnvRows):
-    """Point distances to the single grasp point (reference §4/§5); shared by rewards and observations."""
+    """Point distances to the single grasp point (docs/reference.md §4/§5); shared by rewards and observations."""
 
     hand: np.ndarray  # (n,) d_h: palm point to grasp point
     finger: np.ndarray  # (n, F) each finger point; the thumb (or outer finger) last
@@ -83,7 +83,7 @@ class RewardContext:
 
 def reward_terms(frames: Frames, actions: np.ndarray, ctx: RewardContext, d: TaskDistances, grasped: np.ndarray,
                  success_cfg: SuccessCfg) -> dict[str, np.ndarray]:
-    """Unweighted reward terms (reference §5b), each already gated by its activity condition."""
+    """Unweighted reward terms (docs/reference.md §5b), each already gated by its activity condition."""
     reaching = (d.hand > success_cfg.reach_radius).astype(np.float64)
     holding = grasped.astype(np.float64)
     n = actions.shape[0]

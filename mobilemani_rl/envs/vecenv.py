@@ -15,7 +15,7 @@ from mobilemani_rl.envs.mobilemani_env import MobileManiEnv
 
 
 class RslRlVecEnv(VecEnv):
-    """rsl-rl view: observations under group "policy" (policy = critic, reference §4); `time_outs` bootstraps."""
+    """rsl-rl view: observations under group "policy" (policy = critic, docs/reference.md §4); `time_outs` bootstraps."""
 
     def __init__(self, env: MobileManiEnv, device: str = "cpu") -> None:
         self.env = env

@@ -20,7 +20,7 @@ class WarmStartCfg:
 
 @dataclass
 class PpoCfg:
-    """Defaults are the reference's (reference §7), i.e. conf/rl/ppo/paper.yaml."""
+    """Defaults are the reference's (docs/reference.md §7), i.e. conf/rl/ppo/paper.yaml."""
 
     num_envs: int = 1024
     num_steps_per_env: int = 16
@@ -66,7 +66,7 @@ def rsl_rl_train_cfg(ppo: PpoCfg, logger: dict | str, run_name: str) -> dict:
     return {
         "num_steps_per_env": ppo.num_steps_per_env,
         "save_interval": ppo.save_interval,
-        "obs_groups": {"actor": ["policy"], "critic": ["policy"]},  # no asymmetric critic (reference §4)
+        "obs_groups": {"actor": ["policy"], "critic": ["policy"]},  # no asymmetric critic (docs/reference.md §4)
         "algorithm": {
             "class_name": "PPO", "learning_rate": ppo.learning_rate, "schedule": ppo.schedule,
             "desired_kl": ppo.desired_kl, "num_learning_epochs": ppo.num_learning_epochs,

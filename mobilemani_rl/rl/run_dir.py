@@ -6,8 +6,6 @@ never looks finished; rerunning resumes from the newest checkpoint with the save
 
 from __future__ import annotations
 
-import json
-import os
 import re
 from pathlib import Path
 
@@ -33,17 +31,12 @@ def is_complete(run_dir: Path) -> bool:
     return (run_dir / RESULT).exists()
 
 
-def write_json_atomic(path: Path, payload: dict | list) -> None:
-    tmp = path.with_suffix(path.suffix + ".tmp")
-    tmp.write_text(json.dumps(payload, indent=2))
-    os.replace(tmp, path)
-
-
 def save_or_check_config(run_dir: Path, cfg: DictConfig, keys: tuple[str, ...]) -> None:
-    """Store the (resolved) config of a new run; for an existing run, require the same values under `keys`."""
+    """Store the (resolved) config of a new run; for an existing run, require the same values under `keys`. A run
+    that stopped before its first checkpoint has nothing to resume, so its config is simply replaced."""
     path = run_dir / CONFIG
     current = OmegaConf.create(OmegaConf.to_container(cfg, resolve=True))
-    if not path.exists():
+    if not path.exists() or latest_checkpoint(run_dir) is None:
         run_dir.mkdir(parents=True, exist_ok=True)
         OmegaConf.save(current, path)
         return

@@ -55,6 +55,18 @@ class MobileManiRunner(OnPolicyRunner):
                                      is_distributed=False, gpu_world_size=1, gpu_global_rank=0, device="cpu",
                                      total_iterations=total_iterations)
 
+    def load(self, path: str, load_cfg: dict | None = None, strict: bool = True,
+             map_location: str | None = None) -> dict:
+        """rsl-rl's load with `weights_only=True` (rsl-rl itself unpickles anything, so a crafted checkpoint
+        would run code); a file that is not a readable checkpoint stops with its path."""
+        try:
+            loaded = torch.load(path, weights_only=True, map_location=map_location)
+        except Exception as err:  # pickle, zip or safety errors all mean: not a checkpoint we can trust
+            raise ValueError(f"cannot load teacher checkpoint {path}: {type(err).__name__}: {err}") from err
+        if self.alg.load(loaded, load_cfg, strict):
+            self.current_learning_iteration = loaded["iter"]
+        return loaded["infos"]
+
     def save(self, path: str, infos: dict | None = None) -> None:
         """Write to a temporary file, then rename: a killed run never leaves a truncated checkpoint."""
         tmp = f"{path}.tmp"

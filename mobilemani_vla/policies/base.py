@@ -29,6 +29,7 @@ class EvalPolicy:
     inputs: frozenset[str] = frozenset()
     action_frame: ActionFrame = "world"
     image_size: tuple[int, int] | None = None  # (height, width) the policy's images were recorded at, if known
+    action_dim: int | None = None  # width of the actions it predicts, if fixed (a trained checkpoint's)
 
     def start(self, env: MobileManiEnv, seed: int) -> None:
         """A new batch of episodes starts in `env` (already reset with `seed`); privileged policies bind to it."""

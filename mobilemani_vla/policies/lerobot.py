@@ -3,9 +3,10 @@
 Loaded from a local `pretrained_model` directory with LeRobot's own API (config, weights, pre/post-processor
 pipelines), so normalisation is exactly the one it was trained with. Its input features are our dataset's
 feature names (optionally renamed, as with `lerobot-train --rename_map`); images are resized to the feature's
-shape. It predicts the dataset's `action` (world frame) or `action_base` (base frame), one chunk per call
-(`predict_action_chunk`). Policies that stack several observation steps (diffusion with n_obs_steps > 1) need an
-observation history and are not supported.
+shape. It predicts the dataset's `action` (base frame), one chunk per call (`predict_action_chunk`); the harness
+executes the chunks through the adaptive ensemble (default) or takes one fixed element of the newest
+(`ensemble.action_index=0`). Policies that stack several observation steps (diffusion with n_obs_steps > 1) need
+an observation history and are not supported.
 """
 
 from __future__ import annotations
@@ -43,10 +44,15 @@ class LeRobotEvalPolicy(EvalPolicy):
         theirs_to_ours = {theirs: ours for ours, theirs in (rename or {}).items()}
         self.features = {theirs_to_ours.get(k, k): (k, tuple(f.shape)) for k, f in config.input_features.items()}
         outputs = list(config.output_features)
-        if outputs not in ([schema.ACTION], [schema.ACTION_BASE]):
-            raise ValueError(f"the policy predicts {outputs}; expected [{schema.ACTION!r}] or [{schema.ACTION_BASE!r}]")
-        self.action_frame = "world" if outputs == [schema.ACTION] else "base"
+        if outputs != [schema.ACTION]:
+            raise ValueError(f"the policy predicts {outputs}; expected [{schema.ACTION!r}] (the dataset's base-frame "
+                             "action)")
+        self.action_frame = "base"
+        self.action_dim = int(config.output_features[schema.ACTION].shape[0])
         self.inputs = frozenset(self.features) | {TASK}
+        visual = [shape for _, shape in self.features.values() if len(shape) == 3]
+        if visual:  # render as the training dataset was rendered: (C, H, W) of its first image feature
+            self.image_size = visual[0][1:]
 
     def _batch(self, obs: Observation, rows: np.ndarray) -> dict:
         batch: dict = {TASK: [obs[TASK][i] for i in rows]}

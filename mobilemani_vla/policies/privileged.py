@@ -9,13 +9,11 @@ from pathlib import Path
 
 import numpy as np
 import torch
-from omegaconf import OmegaConf
 from tensordict import TensorDict
 
 from mobilemani_rl.envs.mobilemani_env import MobileManiEnv
-from mobilemani_rl.rl.factory import build_runner
-from mobilemani_rl.rl.run_dir import CONFIG, latest_checkpoint
 from mobilemani_rl.scripted import ScriptedPolicy
+from mobilemani_rl.teacher import load_teacher, newest_checkpoint, teacher_run_dir
 from mobilemani_vla.policies.base import PRIVILEGED_STATE, EvalPolicy, Observation
 
 
@@ -62,21 +60,15 @@ class TeacherEvalPolicy(EvalPolicy):
 
     def _checkpoint_for(self, env: MobileManiEnv) -> Path:
         if self.checkpoint is not None:
-            found = self.checkpoint
-        else:
-            task = env.cfg.task
-            found = latest_checkpoint(self.runs_dir / task.robot / task.object / task.skill)
-        if found is None or not found.is_file():
-            raise FileNotFoundError(f"no teacher checkpoint for {env.cfg.task} (checkpoint={self.checkpoint}, "
-                                    f"runs_dir={self.runs_dir})")
-        return found
+            return self.checkpoint
+        task = env.cfg.task
+        return newest_checkpoint(teacher_run_dir(self.runs_dir, task.robot, task.object, task.skill))
 
     def start(self, env: MobileManiEnv, seed: int) -> None:
         checkpoint = self._checkpoint_for(env)
         if checkpoint != self.loaded:
-            runner = build_runner(OmegaConf.load(checkpoint.parent / CONFIG), run_dir=None, env=env)
-            runner.load(str(checkpoint))
-            self.actor, self.loaded = runner.get_inference_policy(), checkpoint
+            _, self.actor = load_teacher(checkpoint, env=env)
+            self.loaded = checkpoint
 
     @torch.inference_mode()
     def act(self, obs: Observation) -> np.ndarray:

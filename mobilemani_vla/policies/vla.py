@@ -9,10 +9,9 @@ import torch
 
 from mobilemani_rl.envs.mobilemani_env import MobileManiEnv
 from mobilemani_vla.checkpoint import recorded_image_size
-from mobilemani_vla.config import STATES
 from mobilemani_vla.policies.base import TASK, EvalPolicy, Observation, active_rows, scatter_rows
 from mobilemani_vla.policy import VLAPolicy
-from mobilemani_vla.processor import STATE_KEYS, camera_key
+from mobilemani_vla.processor import camera_key
 
 
 class VLAEvalPolicy(EvalPolicy):
@@ -20,25 +19,24 @@ class VLAEvalPolicy(EvalPolicy):
     action_frame = "base"
 
     def __init__(self, checkpoint: str | Path, device: str = "cpu", batch_size: int = 16) -> None:
-        if not Path(checkpoint, "model.safetensors").is_file():
-            raise FileNotFoundError(f"no VLA checkpoint (model.safetensors) in {checkpoint}")
         self.policy = VLAPolicy.load(checkpoint, device)
         self.image_size = recorded_image_size(checkpoint)  # render as the training data was rendered
         self.batch_size = batch_size
-        # States are cheap (no rendering): all three are always built; the model reads its configured ones.
-        self.inputs = frozenset({camera_key(c) for c in self.policy.cameras} | {STATE_KEYS[s] for s in STATES}
+        self.action_dim = self.policy.cfg.action_dim
+        self.inputs = frozenset({camera_key(c) for c in self.policy.cameras} | set(self.policy.vector_inputs)
                                 | {TASK})
 
     def start(self, env: MobileManiEnv, seed: int) -> None:
-        self.generator = torch.Generator().manual_seed(seed)  # diffusion noise, reproducible per batch
+        # Diffusion noise, reproducible per batch; on the model's device so CUDA sampling needs no host copies.
+        self.generator = torch.Generator(self.policy.device).manual_seed(seed)
 
     def act(self, obs: Observation) -> np.ndarray:
         rows = active_rows(obs)
-        states = np.concatenate([obs[STATE_KEYS[s]] for s in STATES], axis=1)
         chunks = []
         for part in np.array_split(rows, max(1, -(-len(rows) // self.batch_size))):
             if part.size:
                 images = {c: obs[camera_key(c)][part] for c in self.policy.cameras}
+                vectors = {k: obs[k][part] for k in self.policy.vector_inputs}
                 chunks.append(self.policy.predict_action_chunks(images, [obs[TASK][i] for i in part],
-                                                                states[part], self.generator))
+                                                                vectors, self.generator))
         return scatter_rows(rows, np.concatenate(chunks), len(obs[TASK]))

@@ -2,8 +2,8 @@
 
 from mobilemani_rl.assets.objects.catalog import CATALOG, CATEGORIES, SPLITS, Task, catalog_ids, task_table
 from mobilemani_rl.assets.objects.categories import ALL_SKILLS, CATEGORY_PARAMS, ObjectKind, Place
+from mobilemani_rl.assets.objects.handmade import TEST_OBJECTS
 from mobilemani_rl.assets.objects.model import ObjectKinematics, ObjectModel
-from mobilemani_rl.assets.objects.test_objects import TEST_OBJECTS
 from mobilemani_rl.registry import UnknownNameError, check_choice, lookup
 
 OBJECTS: dict[str, ObjectModel] = {**TEST_OBJECTS, **CATALOG}

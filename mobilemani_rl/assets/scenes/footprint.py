@@ -46,7 +46,7 @@ def local_bounds(obj: ObjectModel) -> tuple[np.ndarray, np.ndarray]:
 
 
 def stage_top(obj: ObjectModel, placement: Placement) -> float:
-    """Height of the object's bottom: the table top in tabletop scenes (reference §8b), else init_height."""
+    """Height of the object's bottom: the table top in tabletop scenes (docs/reference.md §8b), else init_height."""
     return placement.support_height if placement.setting is Place.TABLETOP else obj.params.init_height
 
 

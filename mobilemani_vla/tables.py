@@ -1,6 +1,6 @@
 """MobileManiVLA (closed-loop evaluation) tables and bar plots, laid out like the paper's, from results files.
 
-    python scripts/vla_tables.py [results/eval] [--out results/vla] [--main default]
+    python -m mobilemani_vla.tables [results/eval] [--out results/vla] [--main default]
 
 Reads <root>/<robot>/<run>/<split>.jsonl written by `python -m mobilemani_vla.evaluate` (run = the eval `name`,
 by convention the training experiment's name) and writes Markdown + LaTeX for: success per skill and per
@@ -15,15 +15,12 @@ from __future__ import annotations
 import argparse
 from pathlib import Path
 
-import matplotlib
+import numpy as np
+from matplotlib.figure import Figure  # the object API: no pyplot backend to select, nothing global changed
 
-matplotlib.use("Agg")
-import matplotlib.pyplot as plt  # noqa: E402
-import numpy as np  # noqa: E402
-
-from mobilemani_rl.assets.objects import CATEGORIES, catalog_ids  # noqa: E402
-from mobilemani_rl.tables import Table, pct  # noqa: E402
-from mobilemani_vla.results import SKILL_GROUPS, read_records, summarize  # noqa: E402
+from mobilemani_rl.assets.objects import CATEGORIES, catalog_ids
+from mobilemani_rl.tables import Table, pct
+from mobilemani_vla.results import SKILL_GROUPS, read_records, summarize
 
 ROBOTS = ("g1", "xhand")
 SKILLS = ("open", "close", "pull", "push", "pick")
@@ -139,7 +136,8 @@ def model_table(results: dict) -> Table:
 def bar_plots(results: dict, run: str, out: Path) -> list[Path]:
     """Per-category success (ours vs paper, G1 and XHand) for both skill groups, and per-skill success."""
     paths = []
-    fig, axes = plt.subplots(2, 1, figsize=(14, 8), sharey=True)
+    fig = Figure(figsize=(14, 8))
+    axes = fig.subplots(2, 1, sharey=True)
     x = np.arange(len(CATEGORIES))
     for g, (ax, group) in enumerate(zip(axes, GROUPS, strict=True)):
         for k, robot in enumerate(ROBOTS):
@@ -157,9 +155,9 @@ def bar_plots(results: dict, run: str, out: Path) -> list[Path]:
     fig.tight_layout(rect=(0, 0, 1, 0.96))
     paths.append(out / "vla_by_category.png")
     fig.savefig(paths[-1], dpi=120)
-    plt.close(fig)
 
-    fig, ax = plt.subplots(figsize=(8, 4))
+    fig = Figure(figsize=(8, 4))
+    ax = fig.subplots()
     x = np.arange(len(SKILLS))
     for k, robot in enumerate(ROBOTS):
         ours = [rate(results.get((robot, run, PROTOCOL_SPLIT)), "per_skill", s) for s in SKILLS]
@@ -175,7 +173,6 @@ def bar_plots(results: dict, run: str, out: Path) -> list[Path]:
     fig.tight_layout()
     paths.append(out / "vla_by_skill.png")
     fig.savefig(paths[-1], dpi=120)
-    plt.close(fig)
     return paths
 
 

@@ -1,6 +1,6 @@
 """Teacher (MobileManiRL) result tables from evaluation files, laid out like the paper's Tables 2 and 6.
 
-    python scripts/rl_tables.py [runs/rl] [--out results/rl]
+    python -m mobilemani_rl.teacher_tables [runs/rl] [--out results/rl]
 
 Collects every `eval_*.json` written by `python -m mobilemani_rl.eval` under the given directory (the newest
 per run), averages success per object, then per (category, skill group, robot) and per (skill, robot), and

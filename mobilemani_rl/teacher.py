@@ -1,0 +1,74 @@
+"""A trained PPO teacher, the one way to use it: where its run lives, its checkpoint, its deterministic actor.
+
+Evaluation (`mobilemani_rl.eval`), data collection (`mobilemani_data.teachers`) and the closed-loop harness
+(`mobilemani_vla.policies.privileged`) all load teachers through `load_teacher`; checkpoints are read with
+`weights_only=True` (`MobileManiRunner.load`), so a checkpoint file never runs code.
+"""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+import numpy as np
+import torch
+from omegaconf import DictConfig, OmegaConf
+from tensordict import TensorDict
+
+from mobilemani_rl.envs.mobilemani_env import MobileManiEnv
+from mobilemani_rl.envs.multi_object import MultiObjectEnv
+from mobilemani_rl.rl.factory import build_runner
+from mobilemani_rl.rl.run_dir import CONFIG, RESULT, latest_checkpoint
+
+
+def teacher_run_dir(runs_dir: str | Path, robot: str, object_id: str, skill: str) -> Path:
+    """<runs_dir>/<robot>/<object or category>/<skill>: where `mobilemani_rl.train` writes a task's run."""
+    return Path(runs_dir) / robot / object_id / skill
+
+
+def newest_checkpoint(run_dir: Path) -> Path:
+    """The run's newest model_*.pt; a clear error when there is none."""
+    found = latest_checkpoint(run_dir)
+    if found is None:
+        raise FileNotFoundError(f"no teacher checkpoint model_*.pt in {run_dir} (train one with "
+                                "python -m mobilemani_rl.train)")
+    return found
+
+
+def trained_success(run_dir: Path) -> float | None:
+    """The success rate the run reached in training (its result.json); None while it has not finished."""
+    path = run_dir / RESULT
+    return json.loads(path.read_text()).get("train_success") if path.is_file() else None
+
+
+def run_config(checkpoint: Path) -> DictConfig:
+    """The config the checkpoint's run was trained with (its run directory's config.yaml)."""
+    path = checkpoint.parent / CONFIG
+    if not path.is_file():
+        raise FileNotFoundError(f"{checkpoint} has no {CONFIG} beside it; it is not a mobilemani_rl.train run")
+    return OmegaConf.load(path)
+
+
+def load_teacher(checkpoint: Path, env: MobileManiEnv | MultiObjectEnv | None = None, num_envs: int | None = None,
+                 cfg: DictConfig | None = None) -> tuple[MobileManiEnv | MultiObjectEnv, torch.nn.Module]:
+    """The teacher's env and deterministic actor. The actor acts in `env` when given, else in a new env built from
+    `cfg` (default: the run's own config) with `num_envs` envs; the teacher was trained with that config's physics
+    and action scales."""
+    if not checkpoint.is_file():
+        raise FileNotFoundError(f"teacher checkpoint {checkpoint} does not exist")
+    runner = build_runner(cfg if cfg is not None else run_config(checkpoint), run_dir=None, num_envs=num_envs,
+                          env=env)
+    runner.load(str(checkpoint))
+    return runner.env.env, runner.get_inference_policy()
+
+
+class TeacherPolicy:
+    """A teacher's actor reading the env's current observation: (num_envs, action_dim) actions per call."""
+
+    def __init__(self, env: MobileManiEnv, actor: torch.nn.Module) -> None:
+        self.env, self.actor = env, actor
+
+    @torch.inference_mode()
+    def __call__(self) -> np.ndarray:
+        obs = TensorDict({"policy": torch.from_numpy(self.env.obs)}, batch_size=[self.env.num_envs])
+        return self.actor(obs).numpy()

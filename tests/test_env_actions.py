@@ -1,0 +1,34 @@
+"""The env takes exactly one action row per env; NaN entries are applied as 0 and counted, never hidden."""
+
+import numpy as np
+import pytest
+
+from mobilemani_rl.envs.actions import checked_actions
+from mobilemani_rl.envs.config import EnvCfg, TaskCfg
+from mobilemani_rl.envs.mobilemani_env import MobileManiEnv
+from mobilemani_rl.rollout import run_first_episodes
+
+
+def test_checked_actions_clamp_zero_nan_and_count_them():
+    raw = np.array([[2.0, np.nan, -3.0, 0.5, 0.0, 0.0, np.nan], [0.1] * 7])
+    actions, nan = checked_actions(raw, 2, 7)
+    assert actions[0].tolist() == [1.0, 0.0, -1.0, 0.5, 0.0, 0.0, 0.0] and nan.tolist() == [2, 0]
+    for shape in [(7,), (2, 1), (1, 7), (2, 8)]:
+        with pytest.raises(ValueError, match=r"\(num_envs, action_dim\) = \(2, 7\)"):
+            checked_actions(np.zeros(shape), 2, 7)
+
+
+def test_env_refuses_a_wrong_width_and_rollouts_report_nan_actions():
+    env = MobileManiEnv(EnvCfg(num_envs=3, seed=0, episode_length=5, task=TaskCfg(object="test/box", skill="open")))
+    env.reset(seed=0)
+    with pytest.raises(ValueError, match="got \\(3, 6\\)"):
+        env.step(np.zeros((3, 6)))
+
+    def half_nan() -> np.ndarray:
+        actions = np.zeros((3, env.num_actions))
+        actions[1, :2] = np.nan
+        return actions
+
+    stats = run_first_episodes(env, half_nan, seed=0)
+    assert stats.nan_actions.tolist() == [0, 2 * stats.length[1], 0]
+    assert stats.summary()["nan_action_entries"] == 2 * stats.length[1]

@@ -1,0 +1,95 @@
+"""GPU-path logic checked on a CPU: FSDP-format checkpoints load, pretrained weights load in the training dtype,
+and the evaluation policy's diffusion noise comes from a generator on the model's device."""
+
+import pickle
+import shutil
+from pathlib import Path
+
+import numpy as np
+import pytest
+import torch
+from hydra import compose, initialize_config_dir
+from safetensors.torch import load_file
+from transformers import PaliGemmaForConditionalGeneration
+
+from mobilemani_vla.backbone import paligemma_config
+from mobilemani_vla.checkpoint import EMA_WEIGHTS, FSDP_SHARDS, FSDP_WEIGHTS, WEIGHTS, load_checkpoint
+from mobilemani_vla.config import ModelCfg, VLACfg, vla_cfg_from_hydra
+from mobilemani_vla.model import build_model
+from mobilemani_vla.policies.vla import VLAEvalPolicy
+from mobilemani_vla.synthetic import write_synthetic_dataset
+from mobilemani_vla.tokenizer import build_word_tokenizer, load_tokenizer
+from mobilemani_vla.train import train
+
+CONF = str(Path(__file__).resolve().parents[1] / "conf")
+
+
+def compose_vla(overrides: list[str]) -> VLACfg:
+    with initialize_config_dir(config_dir=CONF, version_base="1.3"):
+        return vla_cfg_from_hydra(compose(config_name="vla", overrides=overrides))
+
+
+@pytest.fixture(scope="module")
+def checkpoint(tmp_path_factory) -> Path:
+    root = tmp_path_factory.mktemp("gpu_paths")
+    data = write_synthetic_dataset(root / "g1", episodes=2, length=20)
+    cfg = compose_vla(["vla/model=tiny", f"data.root={data}", "data.repo_id=synthetic/g1", "data.heldout_episodes=0",
+                       f"train.output_dir={root / 'run'}", "train.logger=none", "train.progress=false",
+                       "train.batch_size=4", "train.steps=2", "train.ema_decay=0", "train.diagnose_every=0"])
+    return train(cfg).checkpoint
+
+
+class _RunsCode:
+    def __reduce__(self):
+        return (print, ("pickled code ran",))
+
+
+def test_fsdp_full_state_dict_checkpoint_loads_and_runs_no_code(checkpoint, tmp_path):
+    fsdp = shutil.copytree(checkpoint, tmp_path / "fsdp")
+    weights = load_file(fsdp / WEIGHTS)
+    (fsdp / WEIGHTS).unlink()
+    torch.save(weights, fsdp / FSDP_WEIGHTS)  # what accelerate's save_state writes under FSDP (FULL_STATE_DICT)
+    _, model, _, _ = load_checkpoint(fsdp)
+    assert all(torch.equal(model.state_dict()[k], v) for k, v in weights.items())
+
+    (fsdp / FSDP_WEIGHTS).write_bytes(pickle.dumps({"x": _RunsCode()}))
+    with pytest.raises(pickle.UnpicklingError):  # weights_only=True refuses anything but tensors
+        load_checkpoint(fsdp)
+    (fsdp / FSDP_WEIGHTS).unlink()
+    (fsdp / FSDP_SHARDS).mkdir()
+    with pytest.raises(FileNotFoundError, match="accelerate merge-weights"):
+        load_checkpoint(fsdp)
+    assert not (checkpoint / EMA_WEIGHTS).exists()  # these weights are the trained ones, not an average
+
+
+def test_pretrained_backbone_loads_in_the_configured_dtype_and_feeds_a_float32_head(tmp_path):
+    torch.manual_seed(0)
+    PaliGemmaForConditionalGeneration(paligemma_config(ModelCfg())).save_pretrained(tmp_path)
+    build_word_tokenizer().save_pretrained(tmp_path)
+    cfg = compose_vla([f"model.pretrained_path={tmp_path}", f"model.tokenizer_path={tmp_path}",
+                       "model.dtype=bfloat16"])
+    model = build_model(cfg, load_tokenizer(tmp_path))
+    assert {p.dtype for p in model.backbone.vlm.parameters()} == {torch.bfloat16}
+    assert {p.dtype for p in model.head.parameters()} == {torch.float32}
+    size = model.backbone.image_size
+    enc = build_word_tokenizer()(["open box"] * 2, return_tensors="pt")
+    batch = {"pixel_values": torch.rand(2, 4, 3, size, size), "input_ids": enc["input_ids"],
+             "attention_mask": enc["attention_mask"], "state": torch.zeros(2, 9), "actions": torch.rand(2, 16, 7)}
+    loss = model(batch)
+    assert loss.dtype == torch.float32 and torch.isfinite(loss)
+    with pytest.raises(ValueError, match="model.dtype"):
+        compose_vla(["model.dtype=int8"])
+
+
+def test_evaluation_noise_generator_lives_on_the_model_device(checkpoint):
+    policy = VLAEvalPolicy(checkpoint)
+    policy.start(env=None, seed=3)
+    device = next(policy.policy.model.parameters()).device
+    assert policy.generator.device == device
+    size = policy.policy.model.backbone.image_size
+    images = {c: np.zeros((1, size, size, 3), np.uint8) for c in policy.policy.cameras}
+    vectors = {k: np.zeros((1, 10), np.float32) for k in policy.policy.vector_inputs}
+    first = policy.policy.predict_action_chunks(images, ["open box"], vectors, policy.generator)
+    policy.start(env=None, seed=3)
+    again = policy.policy.predict_action_chunks(images, ["open box"], vectors, policy.generator)
+    assert np.array_equal(first, again)
