@@ -107,7 +107,8 @@ RECIPE_DIR = $(RECIPE)/$(RECIPE_SKILL)
 .PHONY: recipe
 recipe: setup
 	$(MAKE) data ROBOT=g1 SUBSET=recipe TEACHER=scripted DATA_ARGS="data_dir=$(RECIPE_DIR)/data \
-		subset.skills=[$(RECIPE_SKILL)] export.width=64 export.height=64 export.vcodec=h264 export.crf=20"
+		subset.skills=[$(RECIPE_SKILL)] export.width=64 export.height=64 export.vcodec=h264 export.crf=20 \
+		export.modalities=[rgb,depth]"
 	$(MAKE) vla ROBOT=g1 VLA_ARGS="vla/model=cpu vla/train=cpu name=recipe_$(RECIPE_SKILL) \
 		data.root=$(RECIPE_DIR)/data/lerobot train.output_dir=$(RECIPE_DIR)/vla train.steps=$(RECIPE_STEPS)"
 	$(MAKE) eval ROBOT=g1 POLICY=vla PROTOCOL=recipe NAME=vla_$(RECIPE_SKILL) \
@@ -154,7 +155,7 @@ DEMO_VLA_STEPS ?= 400
 demo: setup
 	$(MAKE) rl ROBOT=g1 OBJECT=test/box SKILL=open RL_ARGS="run_dir=$(DEMO)/rl/g1/test/box/open rl.ppo.max_iterations=300"
 	$(MAKE) data ROBOT=g1 SUBSET=demo TEACHER=ppo DATA_ARGS="data_dir=$(DEMO)/data teacher.runs_dir=$(DEMO)/rl \
-		export.width=64 export.height=64 export.vcodec=h264 export.crf=20"
+		export.width=64 export.height=64 export.vcodec=h264 export.crf=20 export.modalities=[rgb,depth]"
 	$(MAKE) vla ROBOT=g1 VLA_ARGS="name=demo vla/model=cpu vla/train=cpu data.root=$(DEMO)/data/lerobot \
 		data.heldout_episodes=2 train.output_dir=$(DEMO)/vla train.steps=$(DEMO_VLA_STEPS) train.warmup_steps=50 \
 		train.save_every=$(DEMO_VLA_STEPS) train.diagnose_every=$(DEMO_VLA_STEPS) train.logger=none"

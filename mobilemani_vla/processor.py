@@ -22,12 +22,12 @@ STATE_SOURCES = {"wrist_pose": (schema.STATE, slice(0, schema.WRIST_POSE_DIM)),
                  "grasp_point": (schema.GRASP_POINT_BASE, slice(0, 3)),
                  "goal_point": (schema.GOAL_POINT_BASE, slice(0, 3))}
 STATE_DIMS = {name: part.stop - part.start for name, (_, part) in STATE_SOURCES.items()}
+WRIST_DELTA_DIMS = 6  # action[0:6] are wrist deltas; action[6:] absolute gripper/hand targets
 
 
 def state_features(states: list[str]) -> list[str]:
     """The dataset features the state inputs `states` are read from, each once."""
     return list(dict.fromkeys(STATE_SOURCES[s][0] for s in states))
-WRIST_DELTA_DIMS = 6  # action[0:6] are wrist deltas; action[6:] absolute gripper/hand targets
 
 
 def camera_key(camera: str) -> str:

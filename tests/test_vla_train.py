@@ -148,7 +148,7 @@ def test_frame_cache_is_built_once_reused_and_rebuilt_when_the_dataset_changes(t
             key = f"observation.images.{camera}"
             want = resize_images(decoded.train[i][key][None].float(), 32)[0] * 255.0
             assert (data.train[i][key].float() - want).abs().max() <= 1.0
-            assert torch.equal(data.train[i]["action_base"], decoded.train[i]["action_base"])
+            assert torch.equal(data.train[i]["action"], decoded.train[i]["action"])
     open_data(cfg, 32, progress=False)
     assert cache.stat().st_mtime_ns == built  # reused
     info = root / "meta" / "info.json"
