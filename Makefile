@@ -127,7 +127,7 @@ LEROBOT_OUT ?= runs/lerobot/$(ROBOT)/$(LEROBOT_POLICY)
 LEROBOT_ARGS ?=
 # Our chunk is 16 steps at 30 Hz; single observation steps (the harness gives no history); images stay uncropped.
 LEROBOT_FLAGS_act = --policy.pretrained_backbone_weights=null --policy.chunk_size=16 --policy.n_action_steps=16
-LEROBOT_FLAGS_diffusion = --policy.n_obs_steps=1 --policy.horizon=16 --policy.n_action_steps=8 --policy.crop_shape=null
+LEROBOT_FLAGS_diffusion = --policy.pretrained_backbone_weights=null --policy.n_obs_steps=1 --policy.horizon=16 --policy.n_action_steps=8 --policy.crop_shape=null
 LEROBOT_LAST = $(LEROBOT_OUT)/checkpoints/last
 LEROBOT_TRAIN = HF_HUB_OFFLINE=1 $(VENV)/bin/lerobot-train
 # A finished run is skipped; an interrupted one resumes from its last checkpoint (saved every quarter of the steps);
