@@ -126,8 +126,11 @@ LEROBOT_BATCH ?= 16
 LEROBOT_OUT ?= runs/lerobot/$(ROBOT)/$(LEROBOT_POLICY)
 LEROBOT_ARGS ?=
 # Our chunk is 16 steps at 30 Hz; single observation steps (the harness gives no history); images stay uncropped.
+# Diffusion Policy is sized for a CPU (LeRobot's default U-Net has 300 M parameters, 22 s per step of 8 here; 100
+# denoising steps per action chunk): override with LEROBOT_ARGS on a GPU.
 LEROBOT_FLAGS_act = --policy.pretrained_backbone_weights=null --policy.chunk_size=16 --policy.n_action_steps=16
-LEROBOT_FLAGS_diffusion = --policy.pretrained_backbone_weights=null --policy.n_obs_steps=1 --policy.horizon=16 --policy.n_action_steps=8 --policy.crop_shape=null
+LEROBOT_FLAGS_diffusion = --policy.pretrained_backbone_weights=null --policy.n_obs_steps=1 --policy.horizon=16 \
+	--policy.n_action_steps=8 --policy.crop_shape=null --policy.down_dims=[128,256,512] --policy.num_inference_steps=10
 LEROBOT_LAST = $(LEROBOT_OUT)/checkpoints/last
 LEROBOT_TRAIN = HF_HUB_OFFLINE=1 $(VENV)/bin/lerobot-train
 # A finished run is skipped; an interrupted one resumes from its last checkpoint (saved every quarter of the steps);
