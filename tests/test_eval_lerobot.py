@@ -39,6 +39,38 @@ def save_tiny_act(dataset_root: Path, out: Path) -> Path:
     return out
 
 
+def save_tiny_diffusion(dataset_root: Path, out: Path) -> Path:
+    """What `make lerobot LEROBOT_POLICY=diffusion` trains, at test size and untrained: a policy that was fed
+    observation windows (of one step) in training."""
+    from lerobot.datasets.dataset_metadata import LeRobotDatasetMetadata
+    from lerobot.policies.diffusion.configuration_diffusion import DiffusionConfig
+    from lerobot.policies.diffusion.modeling_diffusion import DiffusionPolicy
+    from lerobot.policies.factory import make_pre_post_processors
+    from lerobot.utils.feature_utils import dataset_to_policy_features
+
+    meta = LeRobotDatasetMetadata("synthetic/g1", root=dataset_root)
+    features = dataset_to_policy_features(meta.features)
+    config = DiffusionConfig(input_features={k: features[k] for k in (HEAD_RGB, schema.STATE)},
+                             output_features={schema.ACTION: features[schema.ACTION]}, n_obs_steps=1, horizon=16,
+                             n_action_steps=8, crop_shape=None, pretrained_backbone_weights=None,
+                             down_dims=(16, 32), num_inference_steps=2, device="cpu")
+    policy = DiffusionPolicy(config)
+    pre, post = make_pre_post_processors(config, dataset_stats=meta.stats)
+    for part in (policy, pre, post):
+        part.save_pretrained(out)
+    return out
+
+
+def test_lerobot_diffusion_policy_gets_one_step_observation_windows(tmp_path):
+    data = write_synthetic_dataset(tmp_path / "data", episodes=1, length=20)
+    policy = LeRobotEvalPolicy(save_tiny_diffusion(data, tmp_path / "pretrained_model"))
+    assert policy.name == "lerobot_diffusion" and policy.windowed and policy.image_size == (48, 64)
+    obs = {HEAD_RGB: np.zeros((2, 48, 64, 3), np.uint8), schema.STATE: np.zeros((2, schema.state_dim(1)), np.float32),
+           "task": ["open box"] * 2, "active": np.array([True, True])}
+    chunks = policy.act(obs)
+    assert chunks.shape == (2, 8, 7) and np.all(np.isfinite(chunks))
+
+
 @pytest.fixture(scope="module")
 def act_dir(tmp_path_factory) -> Path:
     root = tmp_path_factory.mktemp("lerobot")
@@ -48,7 +80,8 @@ def act_dir(tmp_path_factory) -> Path:
 def test_lerobot_act_policy_runs_through_the_harness(act_dir):
     policy = LeRobotEvalPolicy(act_dir, rename={})
     assert policy.name == "lerobot_act" and policy.action_frame == "base"
-    assert policy.inputs == {HEAD_RGB, schema.STATE, "task"}
+    assert policy.inputs == {HEAD_RGB, schema.STATE, "task"} and not policy.windowed
+    assert policy.image_size == (48, 64) and policy.action_dim == 7
     env = MobileManiEnv(EnvCfg(num_envs=2, seed=0, episode_length=6, task=TaskCfg(object="test/box", skill="open")))
     stats = run_batch(env, policy, 0, "open box", EnsembleCfg(), image_size=(48, 64))
     assert stats.length.max() <= 6 and stats.success.shape == (2,)

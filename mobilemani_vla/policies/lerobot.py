@@ -50,6 +50,7 @@ class LeRobotEvalPolicy(EvalPolicy):
         self.action_frame = "base"
         self.action_dim = int(config.output_features[schema.ACTION].shape[0])
         self.inputs = frozenset(self.features) | {TASK}
+        self.windowed = config.observation_delta_indices is not None
         visual = [shape for _, shape in self.features.values() if len(shape) == 3]
         if visual:  # render as the training dataset was rendered: (C, H, W) of its first image feature
             self.image_size = visual[0][1:]
@@ -63,7 +64,9 @@ class LeRobotEvalPolicy(EvalPolicy):
                 if tuple(value.shape[-2:]) != shape[-2:]:
                     value = F.interpolate(value, size=shape[-2:], mode="bilinear", antialias=True,
                                           align_corners=False)
-            batch[theirs] = value.float()
+            # Policies trained on observation windows (Diffusion Policy: observation_delta_indices) get a time axis
+            # of length 1, as LeRobot's loader gave them in training; the others (ACT) take single frames.
+            batch[theirs] = value.float().unsqueeze(1) if self.windowed else value.float()
         return batch
 
     @torch.no_grad()
