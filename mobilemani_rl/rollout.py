@@ -16,8 +16,8 @@ Policy = Callable[[], np.ndarray]  # reads the env it was built on, returns (num
 class EpisodeStats:
     success: np.ndarray  # (num_envs,) bool
     length: np.ndarray  # (num_envs,) control steps
+    nan_actions: np.ndarray  # (num_envs,) NaN action entries the policy sent (each applied as 0)
     reward_terms: dict[str, np.ndarray] = field(default_factory=dict)  # per-episode sums of weighted terms
-    nan_actions: np.ndarray | None = None  # (num_envs,) NaN action entries the policy sent (each applied as 0)
 
     def summary(self) -> dict:
         return {
@@ -26,7 +26,7 @@ class EpisodeStats:
             "mean_length": float(self.length.mean()),
             "reward_terms": {k: float(v.mean()) for k, v in self.reward_terms.items()},
             "mean_return": float(sum(v for v in self.reward_terms.values()).mean()) if self.reward_terms else 0.0,
-            "nan_action_entries": 0 if self.nan_actions is None else int(self.nan_actions.sum()),
+            "nan_action_entries": int(self.nan_actions.sum()),
         }
 
 
@@ -59,7 +59,7 @@ def run_first_episodes(env: MobileManiEnv, policy: Policy, seed: int,
         running &= ~ended
         if not running.any():
             break
-    return EpisodeStats(success, length, sums, nan_actions)
+    return EpisodeStats(success, length, nan_actions, sums)
 
 
 def first_episode_success(env: MobileManiEnv, policy: Policy, seed: int,

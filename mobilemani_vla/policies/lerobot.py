@@ -23,6 +23,7 @@ from mobilemani_vla.policies.base import TASK, EvalPolicy, Observation, active_r
 
 class LeRobotEvalPolicy(EvalPolicy):
     name = "lerobot"
+    action_frame = "base"  # the dataset's `action`
 
     def __init__(self, checkpoint: str | Path, device: str = "cpu", batch_size: int = 16,
                  rename: dict[str, str] | None = None) -> None:
@@ -47,7 +48,6 @@ class LeRobotEvalPolicy(EvalPolicy):
         if outputs != [schema.ACTION]:
             raise ValueError(f"the policy predicts {outputs}; expected [{schema.ACTION!r}] (the dataset's base-frame "
                              "action)")
-        self.action_frame = "base"
         self.action_dim = int(config.output_features[schema.ACTION].shape[0])
         self.inputs = frozenset(self.features) | {TASK}
         self.windowed = config.observation_delta_indices is not None
