@@ -97,23 +97,23 @@ bench-data: setup
 	$(PY) -m mobilemani_data.bench robot=$(ROBOT)
 
 # The CPU VLA recipe (docs/results/vla_cpu_recipe.md): 160 scripted-teacher episodes of g1 on test/box in the 16
-# train rooms rendered at the model's 64 px, the cpu model trained ~85 min on 2 cores, then 40 closed-loop episodes
-# in the 4 unseen test rooms.
-#   make recipe [RECIPE_SKILL=open|close RECIPE_STEPS=3500]
+# train rooms (executed with action noise, DART) rendered at the model's 64 px, the cpu model trained ~85 min on
+# 2 cores, then 40 closed-loop episodes in the 4 unseen test rooms.
+#   make recipe [RECIPE_SKILL=open|close RECIPE_STEPS=9000]
 RECIPE ?= runs/recipe
 RECIPE_SKILL ?= open
-RECIPE_STEPS ?= 3500
+RECIPE_STEPS ?= 9000
 RECIPE_DIR = $(RECIPE)/$(RECIPE_SKILL)
 .PHONY: recipe
 recipe: setup
 	$(MAKE) data ROBOT=g1 SUBSET=recipe TEACHER=scripted DATA_ARGS="data_dir=$(RECIPE_DIR)/data \
-		subset.skills=[$(RECIPE_SKILL)] export.width=64 export.height=64 export.vcodec=h264 export.crf=20 \
+		subset.skills=[$(RECIPE_SKILL)] collect.action_noise=0.3 export.width=64 export.height=64 export.vcodec=h264 export.crf=20 \
 		export.modalities=[rgb,depth]"
 	$(MAKE) vla ROBOT=g1 VLA_ARGS="vla/model=cpu vla/train=cpu name=recipe_$(RECIPE_SKILL) \
 		data.root=$(RECIPE_DIR)/data/lerobot train.output_dir=$(RECIPE_DIR)/vla train.steps=$(RECIPE_STEPS)"
 	$(MAKE) eval ROBOT=g1 POLICY=vla PROTOCOL=recipe NAME=vla_$(RECIPE_SKILL) \
 		CHECKPOINT=$(RECIPE_DIR)/vla/checkpoints/step_$(shell printf %08d $(RECIPE_STEPS)) \
-		EVAL_ARGS="output_dir=$(RECIPE)/eval subset.skills=[$(RECIPE_SKILL)] video_episodes=1"
+		EVAL_ARGS="output_dir=$(RECIPE)/eval subset.skills=[$(RECIPE_SKILL)]"
 
 # A stock LeRobot policy on a MobileManiDataset, unmodified: lerobot-train, then the same closed-loop protocol as
 # MobileManiVLA (results land beside it, so `make tables` shows both). Pretrained backbones stay off (no downloads):

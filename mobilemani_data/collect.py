@@ -29,8 +29,10 @@ def collect_combination(cfg: DataCfg, combo: Combination, path: Path) -> str:
         teacher = build_teacher(cfg.teacher, combo, cfg.env, cfg.collect.num_envs, seed)
     except TeacherUnavailable as err:
         return f"skipped: {err}"
-    rollouts = collect_successes(teacher.env, teacher.policy, cfg.subset.episodes, cfg.collect.max_steps, seed)
+    rollouts = collect_successes(teacher.env, teacher.policy, cfg.subset.episodes, cfg.collect.max_steps, seed,
+                                 cfg.collect.action_noise)
     header = {**combo.metadata(), "instruction": combo.instruction, "teacher": teacher.name, "seed": seed,
+              "action_noise": cfg.collect.action_noise,
               "fps": schema.FPS, "requested": cfg.subset.episodes, "attempts": rollouts.attempts,
               "steps": rollouts.steps, "capped": rollouts.capped,
               "env_cfg": OmegaConf.to_yaml(OmegaConf.structured(teacher.env.cfg))}

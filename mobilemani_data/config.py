@@ -27,6 +27,7 @@ class CollectCfg:
     max_steps: int = 6000  # control steps of the batch per combination before giving up (docs/reference.md §8a)
     seed: int = 0  # mixed with each combination's name into its env seed
     compression: int = 4  # gzip level of the HDF5 datasets
+    action_noise: float = 0.0  # std of Gaussian noise added to the executed (not the recorded) action: DART
 
 
 @dataclass

@@ -42,9 +42,16 @@ def _episode(snaps: list[dict], slot: int, round_: int) -> Episode:
     return Episode(arrays, {"env_slot": slot, "round": round_, "start_step": snaps[0]["step"]})
 
 
-def collect_successes(env: MobileManiEnv, policy: Policy, episodes: int, max_steps: int, seed: int) -> Rollouts:
-    """Step all envs until the first `episodes` successes in (round, slot) order are known, or `max_steps` ran."""
+def collect_successes(env: MobileManiEnv, policy: Policy, episodes: int, max_steps: int, seed: int,
+                      action_noise: float = 0.0) -> Rollouts:
+    """Step all envs until the first `episodes` successes in (round, slot) order are known, or `max_steps` ran.
+
+    With `action_noise` > 0 the envs execute the teacher's action plus Gaussian noise of that standard deviation
+    while the clean action is recorded (DART): the episodes then show how the teacher corrects small deviations,
+    states a policy imitating it meets after its own errors.
+    """
     env.reset(seed=seed)
+    noise_rng = np.random.default_rng(seed)
     n = env.num_envs
     snap = _snapshot(env, np.zeros(n, dtype=bool), 0)
     running: list[list[dict]] = [[snap] for _ in range(n)]
@@ -61,6 +68,8 @@ def collect_successes(env: MobileManiEnv, policy: Policy, episodes: int, max_ste
         # The env clamps actions to [-1, 1] before IK; store them as applied (docs/reference.md §8d).
         actions = np.clip(np.nan_to_num(np.asarray(policy(), dtype=np.float64), nan=0.0), -1.0, 1.0)
         snap["action"] = actions
+        if action_noise > 0:
+            actions = np.clip(actions + noise_rng.normal(0.0, action_noise, actions.shape), -1.0, 1.0)
         result = env.step(actions)
         steps += 1
         success = result.success_flag.copy()
