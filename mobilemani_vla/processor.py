@@ -59,6 +59,12 @@ class VLAProcessor:
     image_size: int
     prompt: str
 
+    def __post_init__(self) -> None:
+        needed = [schema.ACTION, *state_features(self.states)]
+        if missing := [k for k in needed if k not in self.normalizer.bounds]:
+            raise KeyError(f"the normalisation bounds have no {missing} (they hold {sorted(self.normalizer.bounds)}): "
+                           "the checkpoint was trained on an older dataset layout; retrain it on a current export")
+
     @property
     def state_dim(self) -> int:
         return sum(STATE_DIMS[s] for s in self.states)
