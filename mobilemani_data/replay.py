@@ -36,7 +36,7 @@ class Replayer:
         task = self.env_cfg.task
         placement = get_placement(task.scene) if task.scene else None
         self.model, self.index = build_scene(get_robot(task.robot), get_object(task.object), self.env_cfg.physics,
-                                             placement)
+                                             self.env_cfg.reset, placement)
         self.data = mujoco.MjData(self.model)
         if mujoco.mj_stateSize(self.model, STATE_SPEC) != shard.episodes[0].arrays["state"].shape[1]:
             raise ValueError(f"{shard.path}: recorded state size does not match the rebuilt model")

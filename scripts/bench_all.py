@@ -72,7 +72,7 @@ def main() -> None:
         report = {
             "sim": run("mobilemani_rl.bench", ["--seconds", "2" if quick else "6"]
                        + (["--envs", "64", "256"] if quick else [])),
-            "render": run("mobilemani_rl.render.bench", ["--seconds", "1" if quick else "5"]),
+            "render": run("mobilemani_rl.render_bench", ["--seconds", "1" if quick else "5"]),
             "ppo": run("mobilemani_rl.rl.bench", ["--iterations", "1" if quick else "3"]
                        + (["--presets", "cpu"] if quick else [])),
             "export": run("mobilemani_data.bench", [f"bench.out={export_json}"]

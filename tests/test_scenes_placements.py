@@ -16,22 +16,23 @@ from mobilemani_rl.assets.scenes import (
     sample_room_offsets,
     scene_ids,
 )
-from mobilemani_rl.assets.scenes.contact_sheet import showcase_object
 from mobilemani_rl.assets.scenes.footprint import object_footprint
-from mobilemani_rl.envs.config import PhysicsCfg
+from mobilemani_rl.envs.config import PhysicsCfg, ResetCfg
 from mobilemani_rl.envs.scene import build_scene_spec
 from mobilemani_rl.registry import UnknownNameError
+from mobilemani_rl.scene_sheet import showcase_object
 
 ROBOT_START = (np.array([-0.25, -1.5]), np.array([0.25, -0.75]))  # robot root xy range at reset
 BASE_RADIUS = 0.3
 ROBOT_HEIGHT = 2.0
+PICK_Y_OFFSET = ResetCfg().pick_y_offset  # the env's default reset
 
 
 def decorated(scene_id: str, object_id: str) -> tuple[mujoco.MjModel, mujoco.MjData]:
     obj = get_object(object_id)
     spec = build_scene_spec(get_robot("g1"), obj, PhysicsCfg())
     placement = get_placement(scene_id)
-    add_scene(spec, placement, obj)
+    add_scene(spec, placement, obj, PICK_Y_OFFSET)
     model = spec.compile()
     data = mujoco.MjData(model)
     mujoco.mj_kinematics(model, data)
@@ -89,8 +90,16 @@ def test_object_in_the_wrong_setting_is_refused_with_its_scenes():
     obj = get_object("test/box")
     spec = build_scene_spec(get_robot("g1"), obj, PhysicsCfg())
     with pytest.raises(ValueError, match="valid scenes: tabletop/00"):
-        add_scene(spec, get_placement("wall/00"), obj)
+        add_scene(spec, get_placement("wall/00"), obj, PICK_Y_OFFSET)
     assert [p.setting for p in placements_for(obj)] == [Place.TABLETOP] * 20
+
+
+def test_footprint_follows_the_running_pick_offset():
+    """Rooms keep clear of where the run's env.reset.pick_y_offset puts rigid objects, not the default."""
+    obj, placement = get_object("test/can"), get_placement("tabletop/00")
+    near, far = (object_footprint(obj, placement, offset) for offset in (0.1, 0.4))
+    np.testing.assert_allclose(far.lo - near.lo, [0.0, 0.3, 0.0], atol=1e-12)
+    np.testing.assert_allclose(far.hi - near.hi, [0.0, 0.3, 0.0], atol=1e-12)
 
 
 def test_scenes_are_deterministic_and_distinct():
@@ -119,7 +128,7 @@ def assert_room_is_visual_and_clear(scene_id: str, object_id: str) -> None:
     robot_lo, robot_hi = ROBOT_START[0] - BASE_RADIUS, ROBOT_START[1] + BASE_RADIUS
     hits_robot = raised & np.all(lo[:, :2] < robot_hi, axis=1) & np.all(hi[:, :2] > robot_lo, axis=1)
     assert not hits_robot.any(), f"{scene_id}: room geoms {geoms[hits_robot]} in the robot's start area"
-    foot = object_footprint(get_object(object_id), get_placement(scene_id))
+    foot = object_footprint(get_object(object_id), get_placement(scene_id), PICK_Y_OFFSET)
     margin = 0.01  # the table top touches the object's bottom
     hits_object = np.all(lo < foot.hi - margin, axis=1) & np.all(hi > foot.lo + margin, axis=1)
     assert not hits_object.any(), f"{scene_id}: room geoms {geoms[hits_object]} inside {object_id}"

@@ -3,9 +3,9 @@
 import numpy as np
 import pytest
 
+from mobilemani_rl.assets.stage import OBJECT_PREFIX
 from mobilemani_rl.envs.config import EnvCfg, TaskCfg
 from mobilemani_rl.envs.mobilemani_env import MobileManiEnv
-from mobilemani_rl.envs.scene import OBJECT_PREFIX
 from mobilemani_rl.rollout import first_episode_success
 from mobilemani_rl.scripted import ScriptedPolicy
 

@@ -1,8 +1,8 @@
 """`python -m mobilemani_rl.assets <command>`: inspect the procedural assets.
 
-Commands: `list` (object counts per category and split), `preview --out PNG` (contact sheet),
-`scenes --out PNG` (head/wrist views of every scene placement). A command is a (configure parser, run) pair
-in COMMANDS; add new ones there.
+Commands: `list` (object counts per category and split), `preview --out PNG` (contact sheet). A command is a
+(configure parser, run) pair in COMMANDS; add new ones there. Views of every scene placement need the env:
+`python -m mobilemani_rl.scene_sheet`.
 """
 
 from __future__ import annotations
@@ -42,22 +42,9 @@ def _run_preview(args: argparse.Namespace) -> None:
     print(contact_sheet(args.out, args.per_category, args.size, args.seed))
 
 
-def _configure_scenes(parser: argparse.ArgumentParser) -> None:
-    from mobilemani_rl.assets.scenes.contact_sheet import configure
-
-    configure(parser)
-
-
-def _run_scenes(args: argparse.Namespace) -> None:
-    from mobilemani_rl.assets.scenes.contact_sheet import run
-
-    run(args)
-
-
 COMMANDS: dict[str, tuple[str, Callable[[argparse.ArgumentParser], None], Callable[[argparse.Namespace], None]]] = {
     "list": ("object counts per category and split", _configure_list, _run_list),
     "preview": ("contact sheet of sample objects, closed and opened", _configure_preview, _run_preview),
-    "scenes": ("head and wrist views of every scene placement", _configure_scenes, _run_scenes),
 }
 
 

@@ -55,7 +55,7 @@ class MobileManiEnv:
         self.object = get_object(cfg.task.object)
         self.skill = check_skill(self.object, cfg.task.skill)
         self.placement = get_placement(cfg.task.scene) if cfg.task.scene else None
-        self.model, self.index = build_scene(self.robot, self.object, cfg.physics, self.placement)
+        self.model, self.index = build_scene(self.robot, self.object, cfg.physics, cfg.reset, self.placement)
         self.room_mocap = int(self.model.body_mocapid[self.model.body(ROOM_BODY).id]) if self.placement else -1
         self.num_envs = cfg.num_envs
         self.num_actions = self.robot.action_dim

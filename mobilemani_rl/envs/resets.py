@@ -10,9 +10,8 @@ from mobilemani_rl.assets.objects import ObjectKind, ObjectModel
 from mobilemani_rl.assets.objects.model import CART_TRAVEL, PICK_LIFT
 from mobilemani_rl.assets.robots import RobotDescription
 from mobilemani_rl.assets.scenes import Placement
-from mobilemani_rl.assets.scenes.footprint import stage_top as support_height
+from mobilemani_rl.assets.stage import object_position, stage_position, stage_top
 from mobilemani_rl.envs.config import ResetCfg
-from mobilemani_rl.envs.scene import STAGE_HALF
 from mobilemani_rl.rotations import quat_from_yaw
 
 ROBOT_ROOT_Z = 0.01  # reference default root height
@@ -41,16 +40,13 @@ def sample_episode_start(rng: np.random.Generator, n: int, robot: RobotDescripti
     plain = placement is None and not cfg.recording
     random_height = params.random_height and (plain or obj.category == "window")
     lift = rng.uniform(0.0, cfg.random_height, n) if random_height else np.zeros(n)
-    stage_top = (params.init_height if placement is None else support_height(obj, placement)) + lift
+    top = stage_top(obj, placement) + lift
     stage_shift = cfg.stage_shift if plain else 0.0
     # The object's grasp point (at its initial joint value) sits over the env origin, as the reference.
-    object_pos = np.zeros((n, 3))
-    object_pos[:, :2] = -kin.handle_closed[:2]
-    object_pos[:, 2] = stage_top - kin.bottom_z
+    object_pos = object_position(obj, top, cfg.pick_y_offset)
     object_quat = np.tile([1.0, 0.0, 0.0, 0.0], (n, 1))
     joint_value = np.full(n, kin.init_value)
     if obj.kind is ObjectKind.RIGID:
-        object_pos[:, 1] += cfg.pick_y_offset
         object_quat = quat_from_yaw(np.radians(rng.uniform(-cfg.pick_yaw_deg, cfg.pick_yaw_deg, n)))
     elif skill == "close":
         joint_value = rng.uniform(*kin.close_start_range(), n)
@@ -58,7 +54,7 @@ def sample_episode_start(rng: np.random.Generator, n: int, robot: RobotDescripti
     goal_pos, goal_scale = _goal(obj, skill, object_pos, grasp_start, n)
 
     front = object_pos[:, 1] + kin.front_y - rng.uniform(0.0, stage_shift, n)
-    stage_pos = np.stack((np.zeros(n), front + STAGE_HALF[1], stage_top - STAGE_HALF[2]), axis=1)
+    stage_pos = stage_position(front, top)
 
     root_xy = np.asarray(robot.default_root_xy) + np.stack(
         (rng.uniform(*cfg.root_x_range, n), rng.uniform(*cfg.root_y_range, n)), axis=1)

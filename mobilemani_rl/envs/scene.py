@@ -12,10 +12,8 @@ from mobilemani_rl.assets.objects import ObjectKind, ObjectModel
 from mobilemani_rl.assets.objects.model import GRASP_SITE, ROOT_BODY
 from mobilemani_rl.assets.robots import RobotDescription
 from mobilemani_rl.assets.scenes import Placement, add_scene
-from mobilemani_rl.envs.config import PhysicsCfg
-
-OBJECT_PREFIX = "obj/"
-STAGE_HALF = (2.0, 1.0, 0.5)  # the reference's 4 x 2 x 1 m support stage
+from mobilemani_rl.assets.stage import OBJECT_PREFIX, STAGE_HALF
+from mobilemani_rl.envs.config import PhysicsCfg, ResetCfg
 
 
 @dataclass(frozen=True)
@@ -140,11 +138,12 @@ def index_scene(model: mujoco.MjModel, robot: RobotDescription, obj: ObjectModel
     )
 
 
-def build_scene(robot: RobotDescription, obj: ObjectModel, physics: PhysicsCfg, placement: Placement | None = None,
-                ) -> tuple[mujoco.MjModel, SceneIndex]:
-    """The plain stage scene, decorated with a realistic room when a placement is given."""
+def build_scene(robot: RobotDescription, obj: ObjectModel, physics: PhysicsCfg, reset: ResetCfg,
+                placement: Placement | None = None) -> tuple[mujoco.MjModel, SceneIndex]:
+    """The plain stage scene, decorated with a realistic room when a placement is given; the room keeps clear
+    of where `reset` puts the object."""
     spec = build_scene_spec(robot, obj, physics)
     if placement is not None:
-        add_scene(spec, placement, obj)
+        add_scene(spec, placement, obj, reset.pick_y_offset)
     model = spec.compile()
     return model, index_scene(model, robot, obj)

@@ -6,7 +6,7 @@ import mujoco
 import numpy as np
 
 from mobilemani_rl.assets.objects.model import ROOT_BODY
-from mobilemani_rl.envs.scene import OBJECT_PREFIX
+from mobilemani_rl.assets.stage import OBJECT_PREFIX
 
 LABEL_BACKGROUND, LABEL_OBJECT, LABEL_ROBOT = 0, 1, 2
 OBJECT_ROOT = OBJECT_PREFIX + ROOT_BODY

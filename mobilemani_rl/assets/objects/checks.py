@@ -15,8 +15,8 @@ import numpy as np
 
 from mobilemani_rl.assets.objects.categories import ObjectKind
 from mobilemani_rl.assets.objects.model import CART_TRAVEL, GRASP_SITE, PICK_LIFT, ROOT_BODY, ObjectModel
+from mobilemani_rl.assets.stage import OBJECT_PREFIX, STAGE_HALF, stage_position
 
-PREFIX = "obj/"
 PENETRATION = 1e-4  # m; touching surfaces (distance ~0) are not collisions
 STAGE_SHIFT = 0.1  # the stage front reaches this far in front of the object at most (reset range)
 TIMESTEP = 1.0 / 120.0  # the env's physics step (30 Hz control, 4 substeps)
@@ -31,8 +31,6 @@ class SweepResult:
 def stage_model(obj: ObjectModel) -> mujoco.MjModel:
     """The object with its bottom on a 4 x 2 x 1 m stage (top at z = 0), stage front at the object's front
     minus the largest reset shift, ground under the stage; free objects get a free joint."""
-    from mobilemani_rl.envs.scene import STAGE_HALF
-
     kin = obj.kinematics
     spec = mujoco.MjSpec()
     spec.option.timestep = TIMESTEP
@@ -40,13 +38,12 @@ def stage_model(obj: ObjectModel) -> mujoco.MjModel:
     spec.option.iterations = 20
     ground = -obj.params.init_height
     spec.worldbody.add_geom(name="ground", type=mujoco.mjtGeom.mjGEOM_PLANE, size=[5, 5, 0.1], pos=[0, 0, ground])
-    front = kin.front_y - STAGE_SHIFT
     spec.worldbody.add_geom(name="stage", type=mujoco.mjtGeom.mjGEOM_BOX, size=list(STAGE_HALF),
-                            pos=[0, front + STAGE_HALF[1], -STAGE_HALF[2]])
+                            pos=stage_position(kin.front_y - STAGE_SHIFT, 0.0))
     frame = spec.worldbody.add_frame(pos=[0, 0, -kin.bottom_z])
-    spec.attach(obj.build_spec(), prefix=PREFIX, frame=frame)
+    spec.attach(obj.build_spec(), prefix=OBJECT_PREFIX, frame=frame)
     if obj.kind is not ObjectKind.ARTICULATED:
-        spec.body(PREFIX + ROOT_BODY).add_freejoint(name=PREFIX + "free")
+        spec.body(OBJECT_PREFIX + ROOT_BODY).add_freejoint(name=OBJECT_PREFIX + "free")
     model = spec.compile()
     model.opt.disableflags |= mujoco.mjtDisableBit.mjDSBL_FILTERPARENT
     return model
@@ -69,10 +66,10 @@ def sweep(obj: ObjectModel, skill: str, steps: int = 30) -> SweepResult:
     model = stage_model(obj)
     data = mujoco.MjData(model)
     offset = np.array([0.0, 0.0, -kin.bottom_z])
-    site = model.site(PREFIX + GRASP_SITE).id
+    site = model.site(OBJECT_PREFIX + GRASP_SITE).id
     collisions: list[tuple[str, str, float]] = []
     if obj.kind is ObjectKind.ARTICULATED:
-        qadr = model.joint(PREFIX + obj.joint).qposadr[0]
+        qadr = model.joint(OBJECT_PREFIX + obj.joint).qposadr[0]
         moving = {b for b in range(model.nbody) if model.body_jntnum[b] > 0 or _has_moving_parent(model, b)}
         # One path from the initial value to the widest close start covers both skills' sweeps.
         widest = max(kin.open_value, kin.close_start_range()[1])
@@ -82,9 +79,9 @@ def sweep(obj: ObjectModel, skill: str, steps: int = 30) -> SweepResult:
         data.qpos[qadr] = kin.open_value if skill == "open" else kin.init_value
         goal = kin.handle_opened if skill == "open" else kin.handle_closed
     else:
-        root = model.body(PREFIX + ROOT_BODY).id
+        root = model.body(OBJECT_PREFIX + ROOT_BODY).id
         moving = {b for b in range(model.nbody) if model.body_rootid[b] == root}
-        qadr = model.joint(PREFIX + "free").qposadr[0]
+        qadr = model.joint(OBJECT_PREFIX + "free").qposadr[0]
         delta = {"pick": (0, 0, PICK_LIFT), "pull": (0, -CART_TRAVEL, 0), "push": (0, CART_TRAVEL, 0)}[skill]
         goal = kin.handle_closed + np.asarray(delta)
         # The bottom rests on the stage (touching) along the whole path for carts, and leaves it when picked.
@@ -109,7 +106,7 @@ def rest_drift(obj: ObjectModel, seconds: float = 2.0) -> float:
     model = stage_model(obj)
     data = mujoco.MjData(model)
     mujoco.mj_forward(model, data)
-    site = model.site(PREFIX + GRASP_SITE).id
+    site = model.site(OBJECT_PREFIX + GRASP_SITE).id
     start = data.site_xpos[site].copy()
     mujoco.mj_step(model, data, nstep=int(round(seconds / model.opt.timestep)))
     return float(np.linalg.norm(data.site_xpos[site] - start))
@@ -121,8 +118,8 @@ def push_travel(obj: ObjectModel, force: np.ndarray, push_seconds: float, coast_
     model = stage_model(obj)
     data = mujoco.MjData(model)
     mujoco.mj_forward(model, data)
-    site = model.site(PREFIX + GRASP_SITE).id
-    root = model.body(PREFIX + ROOT_BODY).id
+    site = model.site(OBJECT_PREFIX + GRASP_SITE).id
+    root = model.body(OBJECT_PREFIX + ROOT_BODY).id
     start = data.site_xpos[site].copy()
     for _ in range(int(round(push_seconds / model.opt.timestep))):
         data.xfrc_applied[:] = 0.0

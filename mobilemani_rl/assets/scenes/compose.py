@@ -53,8 +53,9 @@ def sample_room_offsets(rng: np.random.Generator, n: int, cfg: RoomJitterCfg | N
     return np.stack((rng.uniform(*cfg.x, n), rng.uniform(*cfg.y, n), np.zeros(n)), axis=1)
 
 
-def add_scene(spec: mujoco.MjSpec, placement: Placement, obj: ObjectModel) -> None:
-    """Add the placement's room (or parking lot) around the object's slot, in place."""
+def add_scene(spec: mujoco.MjSpec, placement: Placement, obj: ObjectModel, pick_y_offset: float) -> None:
+    """Add the placement's room (or parking lot) around the object's slot, in place; `pick_y_offset` is the
+    running reset config's, so the room keeps clear of where the env puts rigid objects."""
     if setting_of(obj) is not placement.setting:
         valid = ", ".join(p.scene_id for p in placements_for(obj))
         raise ValueError(
@@ -65,7 +66,7 @@ def add_scene(spec: mujoco.MjSpec, placement: Placement, obj: ObjectModel) -> No
         spec.geom(name).group = HIDDEN_GROUP
     rng = placement.rng()
     materials = Materials(spec, rng)
-    footprint = object_footprint(obj, placement)
+    footprint = object_footprint(obj, placement, pick_y_offset)
     half = max(footprint.half_width, 0.2)
     corridor_half = max(CORRIDOR_HALF, half + 0.3)
     if placement.setting is Place.OUTDOOR:

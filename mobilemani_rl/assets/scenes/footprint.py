@@ -1,7 +1,7 @@
 """Where the object stands at the start of an episode, as an axis-aligned world box.
 
-Mirrors the env's placement (mobilemani_rl/envs/resets.py): grasp point over the world origin, bottom on the
-stage top; rigid objects sit `pick_y_offset` further back and spin up to ±90°, carts travel ±CART_TRAVEL in y.
+The env's placement (mobilemani_rl/assets/stage.py), widened by the motion an episode start may add: rigid
+objects spin up to ±90° about the vertical, carts travel ±CART_TRAVEL in y.
 """
 
 from __future__ import annotations
@@ -11,10 +11,10 @@ from dataclasses import dataclass
 import mujoco
 import numpy as np
 
-from mobilemani_rl.assets.objects import ObjectKind, ObjectModel, Place
+from mobilemani_rl.assets.objects import ObjectKind, ObjectModel
 from mobilemani_rl.assets.objects.model import CART_TRAVEL
 from mobilemani_rl.assets.scenes.placements import Placement
-from mobilemani_rl.envs.config import ResetCfg
+from mobilemani_rl.assets.stage import pick_shift, stage_top, upright_position
 
 CORNERS = np.array([[sx, sy, sz] for sx in (-1, 1) for sy in (-1, 1) for sz in (-1, 1)], dtype=float)
 
@@ -45,21 +45,15 @@ def local_bounds(obj: ObjectModel) -> tuple[np.ndarray, np.ndarray]:
     return stacked.min(axis=0), stacked.max(axis=0)
 
 
-def stage_top(obj: ObjectModel, placement: Placement) -> float:
-    """Height of the object's bottom: the table top in tabletop scenes (docs/reference.md §8b), else init_height."""
-    return placement.support_height if placement.setting is Place.TABLETOP else obj.params.init_height
-
-
-def object_footprint(obj: ObjectModel, placement: Placement) -> Footprint:
+def object_footprint(obj: ObjectModel, placement: Placement, pick_y_offset: float) -> Footprint:
+    """`pick_y_offset`: the running reset config's (env.reset.pick_y_offset)."""
     lo, hi = local_bounds(obj)
-    kin = obj.kinematics
-    origin = np.array(
-        [-kin.handle_closed[0], -kin.handle_closed[1], stage_top(obj, placement) - kin.bottom_z]
-    )
+    origin = upright_position(obj, stage_top(obj, placement))
     lo, hi = lo + origin, hi + origin
     if obj.kind is ObjectKind.RIGID:
+        # The box at the start position (pick_shift behind the upright one), widened to a circle for the yaw.
         radius = float(np.max(np.linalg.norm(CORNERS[:, :2] * (hi - lo)[:2] / 2, axis=1)))
-        centre = (lo + hi)[:2] / 2 + (0.0, ResetCfg().pick_y_offset)
+        centre = (lo + hi)[:2] / 2 + (0.0, pick_shift(obj, pick_y_offset))
         lo[:2], hi[:2] = centre - radius, centre + radius
     elif obj.kind is ObjectKind.CART:
         lo[1] -= CART_TRAVEL

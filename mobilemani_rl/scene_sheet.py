@@ -1,7 +1,7 @@
-"""`MUJOCO_GL=egl python -m mobilemani_rl.assets scenes --out sheet.png`: head and wrist views, all scenes.
+"""`MUJOCO_GL=egl python -m mobilemani_rl.scene_sheet --out sheet.png`: head and wrist views, all scenes.
 
 Each placement shows one catalog object of its setting (categories in turn), posed at an episode start of the
-object's first skill.
+object's first skill. A command above the env (it builds one per scene), so not in the asset layer.
 """
 
 from __future__ import annotations
@@ -78,7 +78,7 @@ def run(args: argparse.Namespace) -> None:
 
 
 def main(argv: list[str] | None = None) -> None:
-    parser = argparse.ArgumentParser(prog="python -m mobilemani_rl.assets scenes", description=__doc__)
+    parser = argparse.ArgumentParser(prog="python -m mobilemani_rl.scene_sheet", description=__doc__)
     configure(parser)
     run(parser.parse_args(argv))
 
