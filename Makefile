@@ -163,9 +163,9 @@ demo: setup
 		data.heldout_episodes=2 train.output_dir=$(DEMO)/vla train.steps=$(DEMO_VLA_STEPS) train.warmup_steps=50 \
 		train.save_every=$(DEMO_VLA_STEPS) train.diagnose_every=$(DEMO_VLA_STEPS) train.logger=none"
 	$(MAKE) eval ROBOT=g1 POLICY=teacher PROTOCOL=demo NAME=teacher \
-		EVAL_ARGS="output_dir=$(DEMO)/eval policy.runs_dir=$(DEMO)/rl episodes_per_batch=5"
+		EVAL_ARGS="output_dir=$(DEMO)/eval policy.runs_dir=$(DEMO)/rl"
 	$(MAKE) eval ROBOT=g1 POLICY=vla PROTOCOL=demo NAME=vla CHECKPOINT=$(DEMO)/vla/checkpoints/step_$(shell printf %08d $(DEMO_VLA_STEPS)) \
-		EVAL_ARGS="output_dir=$(DEMO)/eval video_episodes=1 episodes_per_batch=5"
+		EVAL_ARGS="output_dir=$(DEMO)/eval video_episodes=1"
 	$(MAKE) tables RL_RUNS=$(DEMO)/rl EVAL_RESULTS=$(DEMO)/eval TABLES=$(DEMO)/tables MAIN_RUN=vla
 	$(PY) -m scripts.demo_report $(DEMO)
 
