@@ -73,7 +73,10 @@ def main(cfg: DictConfig) -> None:
     run_dir = train(cfg)
     if cfg.eval_episodes > 0:
         result = evaluate(latest_checkpoint(run_dir), cfg.eval_episodes, seed=1000)
-        print(f"{run_dir}: success {result['success_rate']:.3f} over {cfg.eval_episodes} episodes per object")
+        trained = sum(r["trained"] for r in result["objects"].values())
+        by_split = ", ".join(f"{split} {rate:.3f}" for split, rate in sorted(result["success_by_split"].items()))
+        print(f"{run_dir}: success {result['success_rate']:.3f} on the {trained} trained object(s), "
+              f"{cfg.eval_episodes} episodes each (all {len(result['objects'])} evaluated objects by split: {by_split})")
 
 
 if __name__ == "__main__":
