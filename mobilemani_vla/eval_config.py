@@ -16,7 +16,7 @@ from mobilemani_vla.ensemble import EnsembleCfg
 class PolicyCfg:
     kind: str = "vla"  # vla | lerobot | teacher | scripted | random
     checkpoint: str | None = None  # vla: checkpoint dir; lerobot: pretrained_model dir; teacher: model_*.pt
-    runs_dir: str = "runs/rl"  # teacher without a checkpoint: newest <runs_dir>/<robot>/<object>/<skill>/model_*.pt
+    runs_dir: str = "runs/rl"  # teacher without a checkpoint: newest <runs_dir>/<robot>/<object or category>/<skill>
     device: str = "cpu"
     batch_size: int = 16  # model policies: envs per forward pass
     rename: dict[str, str] = field(default_factory=dict)  # lerobot: our feature name -> the policy's
