@@ -3,7 +3,8 @@
     python -m mobilemani_data.collect robot=g1 data/subset=small [data/teacher=ppo] [subset.episodes=10]
 
 Complete shards are skipped, so a rerun (or a resumed multirun job) only fills in what is missing; a killed run
-leaves at most a `.partial` file, which the rerun overwrites.
+leaves at most a `.partial` file, which the rerun overwrites. The count of combinations to collect is printed up
+front, and every combination's line ends with progress and an ETA.
 """
 
 from __future__ import annotations
@@ -20,6 +21,7 @@ from mobilemani_data.config import DataCfg, data_cfg_from_hydra
 from mobilemani_data.recorder import collect_successes
 from mobilemani_data.shards import is_complete, write_shard
 from mobilemani_data.teachers import TeacherUnavailable, build_teacher
+from mobilemani_rl.progress import Progress
 from mobilemani_rl.tasks import Combination, select_combinations
 
 
@@ -45,17 +47,19 @@ def collect_combination(cfg: DataCfg, combo: Combination, path: Path) -> str:
 
 def collect(cfg: DataCfg) -> list[Path]:
     combos = shard_of(select_combinations(cfg.robot, cfg.subset), cfg.shard)
-    raw_dir = Path(cfg.raw_dir)
-    paths = []
-    for k, combo in enumerate(combos):
-        path = raw_dir / shard_path(combo)
-        paths.append(path)
-        if is_complete(path):
+    paths = [Path(cfg.raw_dir) / shard_path(combo) for combo in combos]
+    complete = [is_complete(path) for path in paths]
+    todo = complete.count(False)
+    print(f"{len(combos)} combinations: {len(combos) - todo} complete, {todo} to collect", flush=True)
+    progress = Progress(todo, "combinations")
+    for k, (combo, path, done) in enumerate(zip(combos, paths, complete, strict=True)):
+        if done:
             print(f"[{k + 1}/{len(combos)}] {combo.name}: complete, skipped")
             continue
         start = time.perf_counter()
         summary = collect_combination(cfg, combo, path)
-        print(f"[{k + 1}/{len(combos)}] {combo.name}: {summary} ({time.perf_counter() - start:.1f} s)", flush=True)
+        print(f"[{k + 1}/{len(combos)}] {combo.name}: {summary} ({time.perf_counter() - start:.1f} s) | "
+              f"{progress.advance()}", flush=True)
     return paths
 
 

@@ -17,7 +17,7 @@ from mobilemani_rl.tasks import SubsetCfg
 @dataclass
 class TeacherCfg:
     kind: str = "scripted"  # scripted | ppo
-    runs_dir: str = "runs/rl"  # ppo: newest <runs_dir>/<robot>/<object>/<skill>/model_*.pt
+    runs_dir: str = "runs/rl"  # ppo: newest <runs_dir>/<robot>/<object or else its category>/<skill>/model_*.pt
     min_train_success: float = 0.1  # ppo: skip tasks whose teacher trained below this (docs/reference.md §8a)
 
 

@@ -42,19 +42,22 @@ def _ppo_teacher(cfg: TeacherCfg, combo: Combination, num_envs: int, seed: int) 
     # Imported here: the RL stack (torch, rsl-rl) is only needed for PPO teachers.
     from mobilemani_rl.teacher import (
         TeacherPolicy,
+        find_teacher_checkpoint,
         load_teacher,
-        newest_checkpoint,
         run_config,
-        teacher_run_dir,
         trained_success,
     )
 
-    run_dir = teacher_run_dir(cfg.runs_dir, combo.robot, combo.object_id, combo.skill)
-    checkpoint = newest_checkpoint(run_dir)
+    checkpoint = find_teacher_checkpoint(cfg.runs_dir, combo.robot, combo.object_id, combo.skill)
+    run_dir = checkpoint.parent
     if (rate := trained_success(run_dir)) is not None and rate < cfg.min_train_success:
-        raise TeacherUnavailable(f"{run_dir} trained to success {rate:.2f} < {cfg.min_train_success}")
-    # The teacher acts in the env it was trained in (physics, action scales), placed in the recording scene.
+        raise TeacherUnavailable(f"{run_dir} trained to success {rate:.2f} < teacher.min_train_success="
+                                 f"{cfg.min_train_success} (lower it, e.g. teacher.min_train_success=0, to collect with "
+                                 "it anyway)")
+    # The teacher acts in the env it was trained in (physics, action scales), placed in the recording scene, on
+    # this combination's object (a category run's config names the category).
     run_cfg = run_config(checkpoint)
+    run_cfg.task.object = combo.object_id
     run_cfg.task.scene = combo.scene
     run_cfg.env.reset.recording = True
     run_cfg.logger = "tensorboard"

@@ -5,7 +5,9 @@
 
 The task, env and PPO settings come from the run's saved config.yaml; each object's episodes run as one batch
 with the deterministic policy. A multi-object (category) policy is evaluated on the category's train and test
-objects. Results are written next to the checkpoint as eval_<checkpoint>_<seed>.json.
+objects; its `success_rate` is the mean over the objects it trained on (`trained` in each object's entry), the
+others show how it generalises (`success_by_split`). Results are written next to the checkpoint as
+eval_<checkpoint>_<seed>.json.
 """
 
 from __future__ import annotations
@@ -22,6 +24,8 @@ from mobilemani_rl.assets.objects import CATEGORIES, SPLITS, catalog_ids, get_ob
 from mobilemani_rl.envs.config import env_cfg_from_hydra
 from mobilemani_rl.envs.mobilemani_env import MobileManiEnv
 from mobilemani_rl.io import write_json_atomic
+from mobilemani_rl.progress import Progress
+from mobilemani_rl.rl.factory import policy_objects
 from mobilemani_rl.rollout import run_first_episodes
 from mobilemani_rl.teacher import TeacherPolicy, load_teacher, run_config
 from mobilemani_rl.video import HeadCameraRecorder
@@ -41,25 +45,28 @@ def evaluate(checkpoint: Path, episodes: int, seed: int, video_episodes: int = 0
     run_cfg = run_config(checkpoint)
     env_cfg = env_cfg_from_hydra(run_cfg)
     env_cfg.num_envs = episodes
+    trained = set(policy_objects(env_cfg.task.object, run_cfg.objects_per_policy) or [env_cfg.task.object])
+    todo = [(split, object_id) for split, ids in evaluation_objects(env_cfg.task.object).items() for object_id in ids]
+    progress = Progress(len(todo), "objects")  # a category is ~40 objects of `episodes` episodes each
     per_object: dict[str, dict] = {}
     actor = None
-    for split, object_ids in evaluation_objects(env_cfg.task.object).items():
-        for object_id in object_ids:
-            env = MobileManiEnv(dataclasses.replace(env_cfg, task=dataclasses.replace(env_cfg.task,
-                                                                                      object=object_id)))
-            if actor is None:
-                _, actor = load_teacher(checkpoint, env=env, cfg=run_cfg)
-            recorder = HeadCameraRecorder(env, video_episodes) if video_episodes else None
-            stats = run_first_episodes(env, TeacherPolicy(env, actor), seed=seed, on_step=recorder)
-            per_object[object_id] = {"split": split, **stats.summary()}
-            if recorder is not None:
-                per_object[object_id]["videos"] = recorder.write(
-                    checkpoint.parent / f"eval_videos_{checkpoint.stem}" / object_id.replace("/", "_"))
+    for split, object_id in todo:
+        env = MobileManiEnv(dataclasses.replace(env_cfg, task=dataclasses.replace(env_cfg.task, object=object_id)))
+        if actor is None:
+            _, actor = load_teacher(checkpoint, env=env, cfg=run_cfg)
+        recorder = HeadCameraRecorder(env, video_episodes) if video_episodes else None
+        stats = run_first_episodes(env, TeacherPolicy(env, actor), seed=seed, on_step=recorder)
+        per_object[object_id] = {"split": split, "trained": object_id in trained, **stats.summary()}
+        if recorder is not None:
+            per_object[object_id]["videos"] = recorder.write(
+                checkpoint.parent / f"eval_videos_{checkpoint.stem}" / object_id.replace("/", "_"))
+        print(f"{object_id} ({split}{', trained' if object_id in trained else ''}): success "
+              f"{per_object[object_id]['success_rate']:.3f} | {progress.advance()}", flush=True)
     by_split = {split: float(np.mean([r["success_rate"] for r in per_object.values() if r["split"] == split]))
                 for split in {r["split"] for r in per_object.values()}}
     result = {"checkpoint": str(checkpoint), "seed": seed, "task": OmegaConf.to_container(run_cfg.task),
-              "episodes_per_object": episodes, "success_rate": float(np.mean([r["success_rate"]
-                                                                               for r in per_object.values()])),
+              "episodes_per_object": episodes,
+              "success_rate": float(np.mean([r["success_rate"] for r in per_object.values() if r["trained"]])),
               "success_by_split": by_split, "objects": per_object}
     write_json_atomic(checkpoint.parent / f"eval_{checkpoint.stem}_{seed}.json", result)
     return result

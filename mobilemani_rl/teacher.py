@@ -15,6 +15,7 @@ import torch
 from omegaconf import DictConfig, OmegaConf
 from tensordict import TensorDict
 
+from mobilemani_rl.assets.objects import get_object
 from mobilemani_rl.envs.mobilemani_env import MobileManiEnv
 from mobilemani_rl.envs.multi_object import MultiObjectEnv
 from mobilemani_rl.rl.factory import build_runner
@@ -26,13 +27,17 @@ def teacher_run_dir(runs_dir: str | Path, robot: str, object_id: str, skill: str
     return Path(runs_dir) / robot / object_id / skill
 
 
-def newest_checkpoint(run_dir: Path) -> Path:
-    """The run's newest model_*.pt; a clear error when there is none."""
-    found = latest_checkpoint(run_dir)
-    if found is None:
-        raise FileNotFoundError(f"no teacher checkpoint model_*.pt in {run_dir} (train one with "
-                                "python -m mobilemani_rl.train)")
-    return found
+def find_teacher_checkpoint(runs_dir: str | Path, robot: str, object_id: str, skill: str) -> Path:
+    """The newest model_*.pt of the object's own run, else of its category's run (a multi-object policy trained
+    with task.object=<category>, which acts on any object of the category); a clear error naming both."""
+    own = teacher_run_dir(runs_dir, robot, object_id, skill)
+    category = teacher_run_dir(runs_dir, robot, get_object(object_id).category, skill)
+    for run_dir in (own, category):
+        if (found := latest_checkpoint(run_dir)) is not None:
+            return found
+    raise FileNotFoundError(f"no teacher checkpoint model_*.pt in {own} nor in its category's run {category} (train "
+                            f"one with python -m mobilemani_rl.train robot={robot} task.object={object_id} or "
+                            f"task.object={get_object(object_id).category} task.skill={skill})")
 
 
 def trained_success(run_dir: Path) -> float | None:

@@ -3,8 +3,8 @@
     python -m mobilemani_rl.train robot=g1 task.object=test/box task.skill=open [rl/ppo=paper]
     python -m mobilemani_rl.train robot=g1 task.object=laptop task.skill=open objects_per_policy=8
 
-Rerunning the same command resumes from the run directory's newest checkpoint with its saved config; a
-finished run (result.json present) is left as it is.
+Rerunning the same command resumes from the run directory's newest checkpoint with its saved config (or, before
+PPO's first checkpoint, from the finished warm start); a finished run (result.json present) is left as it is.
 """
 
 from __future__ import annotations
@@ -22,6 +22,7 @@ from mobilemani_rl.rl.run_dir import (
     CURVE,
     RESULT,
     WARM_START,
+    WARM_START_CHECKPOINT,
     is_complete,
     latest_checkpoint,
     save_or_check_config,
@@ -46,9 +47,15 @@ def train(cfg: DictConfig) -> Path:
         start = runner.current_learning_iteration + 1
         runner.current_learning_iteration = start
         print(f"resuming {run_dir} from {checkpoint.name} (iteration {start} of {ppo.max_iterations})")
+    elif (warm := run_dir / WARM_START_CHECKPOINT).exists():
+        runner.load(str(warm))
+        print(f"resuming {run_dir} from its finished warm start ({WARM_START_CHECKPOINT})")
     elif ppo.warm_start.episodes > 0:
+        print(f"warm start: cloning the scripted policy before {ppo.max_iterations} PPO iterations "
+              "(rl.ppo.warm_start.episodes=0 trains from scratch)")
         info = warm_start(runner.alg.actor, runner.alg.critic, runner.env.env, ppo.warm_start, ppo.gamma)
         write_json_atomic(run_dir / WARM_START, {**info, "seconds": round(time.time() - wall, 1)})
+        runner.save(str(warm))  # last and atomic: only a finished warm start is kept, and a rerun starts PPO from it
         print(f"warm start: cloned {info['episodes']} scripted episodes ({info['steps']} steps, scripted success "
               f"{info['scripted_success']:.2f}), actor loss {info['actor_loss'][0]:.4f} -> {info['actor_loss'][1]:.4f}")
     remaining = ppo.max_iterations - start
@@ -73,7 +80,10 @@ def main(cfg: DictConfig) -> None:
     run_dir = train(cfg)
     if cfg.eval_episodes > 0:
         result = evaluate(latest_checkpoint(run_dir), cfg.eval_episodes, seed=1000)
-        print(f"{run_dir}: success {result['success_rate']:.3f} over {cfg.eval_episodes} episodes per object")
+        trained = sum(r["trained"] for r in result["objects"].values())
+        by_split = ", ".join(f"{split} {rate:.3f}" for split, rate in sorted(result["success_by_split"].items()))
+        print(f"{run_dir}: success {result['success_rate']:.3f} on the {trained} trained object(s), "
+              f"{cfg.eval_episodes} episodes each (all {len(result['objects'])} evaluated objects by split: {by_split})")
 
 
 if __name__ == "__main__":

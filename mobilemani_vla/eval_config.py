@@ -16,7 +16,7 @@ from mobilemani_vla.ensemble import EnsembleCfg
 class PolicyCfg:
     kind: str = "vla"  # vla | lerobot | teacher | scripted | random
     checkpoint: str | None = None  # vla: checkpoint dir; lerobot: pretrained_model dir; teacher: model_*.pt
-    runs_dir: str = "runs/rl"  # teacher without a checkpoint: newest <runs_dir>/<robot>/<object>/<skill>/model_*.pt
+    runs_dir: str = "runs/rl"  # teacher without a checkpoint: newest <runs_dir>/<robot>/<object or category>/<skill>
     device: str = "cpu"
     batch_size: int = 16  # model policies: envs per forward pass
     rename: dict[str, str] = field(default_factory=dict)  # lerobot: our feature name -> the policy's
@@ -32,7 +32,7 @@ class EvalCfg:
     output_dir: str = "results/eval"
     policy: PolicyCfg = field(default_factory=PolicyCfg)
     subset: SubsetCfg = field(default_factory=lambda: SubsetCfg(split="test"))  # `episodes` per combination
-    episodes_per_batch: int = 10  # episodes run together; seeds are per block of this size, so fixed per protocol
+    episodes_per_batch: int = 10  # episodes run together (at most subset.episodes); seeds are per block of this size
     seed: int = 0  # mixed with (robot, object, skill, scene, block) into each batch's env seed
     ensemble: EnsembleCfg = field(default_factory=EnsembleCfg)
     action_convention: str = "conjugate"  # base-frame action encoding of the training data (base_frame.Convention)
@@ -41,6 +41,12 @@ class EvalCfg:
     image_size: list[int] | None = None
     video_episodes: int = 0  # head-camera MP4s of the first k episodes of each combination
     env: EnvCfg = field(default_factory=EnvCfg)
+
+    @property
+    def batch_size(self) -> int:
+        """Episodes per env batch. Clipped to a combination's episodes because a protocol preset (conf/eval/protocol,
+        `@package subset`) cannot set the root's episodes_per_batch: `small`'s 2 episodes run as one batch of 2."""
+        return min(self.episodes_per_batch, self.subset.episodes)
 
     @property
     def split_name(self) -> str:

@@ -6,9 +6,10 @@
 
 Protocol: every (object, skill, scene) combination of the selected object split x scene split (default: test
 objects x test scenes), `subset.episodes` episodes each (10), 300 control steps, success when the grasp point
-comes within 5 cm of the goal. Episodes of a combination run as env batches of `episodes_per_batch`; each batch's
-env seed comes from (seed, robot, object, skill, scene, block), so episode e of a combination is always the same
-start state. Results: <output_dir>/<robot>/<name>/<split>.jsonl (one record per episode, resumable), a summary
+comes within 5 cm of the goal. Episodes of a combination run as env batches of `episodes_per_batch` (at most
+`subset.episodes`); each batch's env seed comes from (seed, robot, object, skill, scene, block), so episode e of a
+combination is always the same start state. The total is printed up front, and every batch's line ends with the
+episodes done so far and an ETA. Results: <output_dir>/<robot>/<name>/<split>.jsonl (one record per episode, resumable), a summary
 JSON next to it (per skill, per category), and head-camera MP4s of the first `video_episodes` episodes.
 """
 
@@ -26,6 +27,7 @@ from mobilemani_rl.assets.robots import get_robot
 from mobilemani_rl.envs.config import TaskCfg
 from mobilemani_rl.envs.mobilemani_env import MobileManiEnv
 from mobilemani_rl.io import write_json_atomic
+from mobilemani_rl.progress import Progress
 from mobilemani_rl.tasks import Combination, recording_env_cfg, select_combinations
 from mobilemani_rl.video import HeadCameraRecorder
 from mobilemani_vla.eval_config import DEFAULT_IMAGE_SIZE, EvalCfg, eval_cfg_from_hydra
@@ -44,7 +46,7 @@ def run_dir(cfg: EvalCfg) -> Path:
 
 
 def evaluate_block(cfg: EvalCfg, policy: EvalPolicy, combo: Combination, block: int) -> list[dict]:
-    size = cfg.episodes_per_batch
+    size = cfg.batch_size
     seed = batch_seed(combo, cfg.seed, block)
     env = MobileManiEnv(recording_env_cfg(cfg.env, TaskCfg(combo.robot, combo.object_id, combo.skill, combo.scene),
                                           size, seed))
@@ -65,9 +67,10 @@ def evaluate_block(cfg: EvalCfg, policy: EvalPolicy, combo: Combination, block: 
 
 def evaluate(cfg: EvalCfg, policy: EvalPolicy | None = None) -> dict:
     """Run every missing episode of the selected protocol; returns the summary of the results file."""
-    if cfg.subset.episodes % cfg.episodes_per_batch:
+    size = cfg.batch_size
+    if cfg.subset.episodes % size:
         raise ValueError(f"subset.episodes ({cfg.subset.episodes}) must be a multiple of episodes_per_batch "
-                         f"({cfg.episodes_per_batch}) so that every episode keeps its seed")
+                         f"({size}) so that every episode keeps its seed")
     combos = select_combinations(cfg.robot, cfg.subset)
     policy = policy or build_policy(cfg.policy)
     expected = get_robot(cfg.robot).action_dim
@@ -78,19 +81,22 @@ def evaluate(cfg: EvalCfg, policy: EvalPolicy | None = None) -> dict:
     results = ResultsFile(out / f"{cfg.split_name}.jsonl")
     write_json_atomic(out / "config.json", {"eval": OmegaConf.to_container(OmegaConf.structured(cfg)),
                                             "policy_inputs": sorted(policy.inputs)})
-    blocks = cfg.subset.episodes // cfg.episodes_per_batch
-    for k, combo in enumerate(combos):
-        for block in range(blocks):
-            keys = {(combo.robot, combo.object_id, combo.skill, combo.scene, block * cfg.episodes_per_batch + s)
-                    for s in range(cfg.episodes_per_batch)}
-            if keys <= results.done:
-                continue
-            start = time.perf_counter()
-            records = evaluate_block(cfg, policy, combo, block)
-            results.append(records)
-            rate = sum(r["success"] for r in records) / len(records)
-            print(f"[{k + 1}/{len(combos)}] {combo.name} block {block}: success {rate:.2f} "
-                  f"({time.perf_counter() - start:.1f} s)", flush=True)
+    todo = [(k, combo, block) for k, combo in enumerate(combos) for block in range(cfg.subset.episodes // size)
+            if not {(combo.robot, combo.object_id, combo.skill, combo.scene, block * size + s)
+                    for s in range(size)} <= results.done]
+    total = len(combos) * cfg.subset.episodes
+    # Up front, since the paper protocol on a CPU runs for hours: what there is to do and what a rerun skips.
+    print(f"{policy.name} on {cfg.split_name}: {len(combos)} combinations x {cfg.subset.episodes} episodes = "
+          f"{total} episodes; {total - len(todo) * size} done, {len(todo) * size} to run in batches of {size}",
+          flush=True)
+    progress = Progress(len(todo) * size, "episodes")
+    for k, combo, block in todo:
+        start = time.perf_counter()
+        records = evaluate_block(cfg, policy, combo, block)
+        results.append(records)
+        rate = sum(r["success"] for r in records) / len(records)
+        print(f"[{k + 1}/{len(combos)}] {combo.name} block {block}: success {rate:.2f} "
+              f"({time.perf_counter() - start:.1f} s) | {progress.advance(size)}", flush=True)
     summary = summarize(read_records(results.path))
     write_json_atomic(out / f"{cfg.split_name}.summary.json", summary)
     return summary

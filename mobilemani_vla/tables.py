@@ -7,7 +7,7 @@ by convention the training experiment's name) and writes Markdown + LaTeX for: s
 category (run `--main`, unseen objects x unseen scenes), the image- and state-input ablations (runs named like
 conf/experiment/ablation_*), seen/unseen objects x scenes (run `--split-run`, its four split files) and the model
 comparison (runs named in MODELS, then every other run), plus PNG bar plots. Paper numbers sit beside ours;
-a '-' marks a result not evaluated yet.
+a '-' marks a result not evaluated yet, and the results files those cells wanted are listed at the end.
 """
 
 from __future__ import annotations
@@ -58,6 +58,20 @@ SPLITS = [("train_objects_train_scenes", "seen objects, seen scenes", 59.6),
 # Model comparison: label, run name, paper success (G1, ablation subset).
 MODELS = [("OpenVLA (7B)", "openvla", 4.5), ("CogACT (7B)", "cogact", 6.8), ("pi0 (3B)", "pi0", 11.2),
           ("pi0.5 (3B)", "pi05", 18.8), ("MobileManiVLA", "ablation_image_all", 28.2)]
+
+
+class RecordingResults(dict):
+    """The loaded results, noting every (robot, run, split) a table looks up and does not find: the tables name
+    their inputs in one place (their own code), and the missing ones can still be reported."""
+
+    def __init__(self, results: dict) -> None:
+        super().__init__(results)
+        self.missing: set[tuple[str, str, str]] = set()
+
+    def get(self, key, default=None):
+        if key not in self:
+            self.missing.add(key)
+        return super().get(key, default)
 
 
 def load(root: Path) -> dict[tuple[str, str, str], dict]:
@@ -192,10 +206,7 @@ def main() -> None:
     parser.add_argument("--main", default="default", help="run of the per-skill and per-category tables")
     parser.add_argument("--split-run", default="ablation_image_all", help="run of the seen/unseen table")
     args = parser.parse_args()
-    results = load(args.root)
-    if not results:
-        print(f"no <robot>/<run>/<split>.jsonl under {args.root} (python -m mobilemani_vla.evaluate writes them); "
-              "the tables hold the paper's numbers only")
+    results = RecordingResults(load(args.root))
     args.out.mkdir(parents=True, exist_ok=True)
     for name, table in build_tables(results, args.main, args.split_run).items():
         print(table.markdown())
@@ -203,6 +214,11 @@ def main() -> None:
         (args.out / f"{name}.tex").write_text(table.latex())
     for path in bar_plots(results, args.main, args.out):
         print(f"wrote {path}")
+    print(f"results under {args.root}: {', '.join('/'.join(key) for key in sorted(results)) or 'none'}")
+    if results.missing:
+        print("missing inputs (their cells show '-'; `make eval NAME=<run> [SPLIT=..]` writes <robot>/<run>/<split>"
+              ".jsonl, and --main / MAIN_RUN picks the run of the per-skill and per-category tables):\n  "
+              + "\n  ".join(f"{args.root}/{'/'.join(key)}.jsonl" for key in sorted(results.missing)))
 
 
 if __name__ == "__main__":

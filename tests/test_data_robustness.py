@@ -48,9 +48,11 @@ def test_killed_collection_reruns_to_exact_counts(tmp_path):
     assert all(p.stat().st_mtime_ns == mtime for p, mtime in first.items())  # complete shards untouched
 
 
-def test_corrupt_shard_is_named_and_the_rest_exports(tmp_path):
+def test_corrupt_shard_is_named_and_the_rest_exports(tmp_path, capsys):
     cfg = tiny_cfg(tmp_path, "subset.objects=[dishwasher/0000]", "subset.skills=[open]", "subset.episodes=1")
     collect(cfg)
+    out = capsys.readouterr().out  # the total up front, then progress with an ETA
+    assert "2 combinations: 0 complete, 2 to collect" in out and "| 2/2 combinations, " in out and "ETA" in out
     good, bad = shard_paths(Path(cfg.raw_dir), "g1")
     data = bad.read_bytes()
     bad.write_bytes(data[: len(data) // 2])

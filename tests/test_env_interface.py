@@ -6,8 +6,10 @@ import torch
 
 from mobilemani_rl.envs.config import EnvCfg, TaskCfg
 from mobilemani_rl.envs.mobilemani_env import MobileManiEnv
+from mobilemani_rl.envs.multi_object import MultiObjectEnv
 from mobilemani_rl.envs.vecenv import GymVectorEnv, RslRlVecEnv
 from mobilemani_rl.registry import UnknownNameError
+from mobilemani_rl.rl.factory import policy_objects
 
 
 @pytest.mark.parametrize(("robot", "obs_dim", "act_dim"), [("g1", 146, 7), ("xhand", 223, 18)])
@@ -71,6 +73,17 @@ def test_rsl_rl_vecenv_interface():
     # Episode step 299 reaches the time limit: every env times out and is reset.
     assert dones.all() and extras["time_outs"].all()
     assert "/reward/diff_hand_object" in extras["log"] and "/episode/success_flag" in extras["log"]
+
+
+def test_rsl_rl_vecenv_sets_episode_lengths_of_a_multi_object_env():
+    """rsl-rl's random initial episode lengths reach every object's env: episodes of a category policy end at
+    different steps, so every PPO iteration has finished episodes to report (not success=nan)."""
+    vec = RslRlVecEnv(MultiObjectEnv(EnvCfg(num_envs=4, task=TaskCfg(object="laptop")), policy_objects("laptop", 2)))
+    vec.episode_length_buf = torch.tensor([298, 0, 0, 298])
+    np.testing.assert_array_equal(vec.episode_length_buf.numpy(), [298, 0, 0, 298])
+    _, _, dones, extras = vec.step(torch.zeros(4, 7))
+    assert dones.tolist() == [True, False, False, True]
+    assert extras["log"]["/episode/success_flag"].shape == (2,)
 
 
 def test_gymnasium_vector_adapter_same_step_autoreset():

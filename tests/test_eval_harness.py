@@ -161,6 +161,27 @@ def test_protocol_records_are_seeded_resumable_and_summarised(tmp_path):
         evaluate(eval_cfg(tmp_path, ["eval/policy=scripted", "subset.episodes=3"]))
 
 
+def test_small_protocol_runs_as_written_and_reports_totals_and_eta(tmp_path, capsys):
+    """PROTOCOL=small (2 episodes) with the root's episodes_per_batch=10: one batch of 2, the same seeds as an
+    explicit episodes_per_batch=2, and the total up front with an ETA per batch."""
+    protocol = ["eval/protocol=small", "eval/policy=random", "subset.categories=[box]", "subset.skills=[open]",
+                "env.episode_length=20"]
+    cfg = eval_cfg_from_hydra(compose_cfg("eval", [*protocol, f"output_dir={tmp_path / 'default'}"]))
+    assert cfg.episodes_per_batch == 10 and cfg.batch_size == 2
+    evaluate(cfg)
+    out = capsys.readouterr().out
+    assert "random on test_objects_test_scenes: 1 combinations x 2 episodes = 2 episodes; 0 done, 2 to run" in out
+    assert "block 0: success" in out and "| 2/2 episodes, " in out and " ETA 0s" in out
+    explicit = eval_cfg_from_hydra(compose_cfg("eval", [*protocol, f"output_dir={tmp_path / 'explicit'}",
+                                                        "episodes_per_batch=2"]))
+    evaluate(explicit)
+    split = "g1/default/test_objects_test_scenes.jsonl"
+    assert [r["seed"] for r in read_records(tmp_path / "default" / split)] == \
+        [r["seed"] for r in read_records(tmp_path / "explicit" / split)]
+    evaluate(cfg)  # a finished protocol says so up front and runs nothing
+    assert "2 episodes; 2 done, 0 to run" in capsys.readouterr().out
+
+
 def test_tiny_vla_runs_the_protocol_end_to_end(tmp_path):
     root = write_synthetic_dataset(tmp_path / "data", episodes=2, length=20)
     vla_cfg = vla_cfg_from_hydra(compose_cfg("vla", [

@@ -3,6 +3,7 @@
 import json
 from pathlib import Path
 
+from mobilemani_vla import tables as vla_tables
 from mobilemani_vla.tables import PROTOCOL_SPLIT, bar_plots, build_tables, load
 
 
@@ -50,3 +51,18 @@ def test_tables_and_plots_from_results(tmp_path):
     paths = bar_plots(results, "default", tmp_path)
     assert [p.name for p in paths] == ["vla_by_category.png", "vla_by_skill.png"]
     assert all(p.stat().st_size > 10_000 for p in paths)
+
+
+def test_tables_name_the_results_they_miss(tmp_path, monkeypatch, capsys):
+    """Results under another run name than --main: every table still prints, and the missing files are named."""
+    root = tmp_path / "eval"
+    write_run(root, "g1", "vla_open", PROTOCOL_SPLIT, {("box/0010", "open", "tabletop/16"): [True, False]})
+    monkeypatch.setattr("sys.argv", ["tables", str(root), "--out", str(tmp_path / "out"), "--main", "default"])
+    vla_tables.main()
+    out = capsys.readouterr().out
+    assert f"results under {root}: g1/vla_open/{PROTOCOL_SPLIT}" in out and "| vla_open | 50.0 | - |" in out
+    missing = out.split("missing inputs")[1]
+    assert f"{root}/g1/default/{PROTOCOL_SPLIT}.jsonl" in missing
+    assert f"{root}/xhand/default/{PROTOCOL_SPLIT}.jsonl" in missing
+    assert f"{root}/g1/ablation_image_all/train_objects_train_scenes.jsonl" in missing
+    assert "vla_open" not in missing

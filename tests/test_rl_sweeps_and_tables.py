@@ -42,6 +42,15 @@ def test_tables_from_evaluation_files(tmp_path, monkeypatch, capsys):
     assert r"\toprule" in (tmp_path / "out" / "rl_by_category.tex").read_text()
 
 
+def test_tables_without_teacher_evaluations_name_the_missing_input(tmp_path, monkeypatch, capsys):
+    """`make tables` with VLA results but no teacher evaluations: the teacher step must not stop it."""
+    monkeypatch.setattr("sys.argv", ["teacher_tables", str(tmp_path / "rl"), "--out", str(tmp_path / "out")])
+    teacher_tables.main()
+    out = capsys.readouterr().out
+    assert f"missing input: no teacher evaluation (eval_*.json) under {tmp_path / 'rl'}" in out
+    assert "| Open | - | - | 86.6 | 91.9 |" in (tmp_path / "out" / "rl_by_skill.md").read_text()
+
+
 def test_latex_escapes_and_rules():
     table = Table(["Object", "Rate"], [["washing_machine", "50%"], ["Mean", "1"]], "A & B", separators=(1,))
     latex = table.latex()

@@ -8,10 +8,12 @@ import sys
 import time
 from pathlib import Path
 
+import numpy as np
 import pytest
 from hydra import compose, initialize_config_dir
 
 from mobilemani_rl.eval import evaluate
+from mobilemani_rl.rl.factory import policy_objects
 from mobilemani_rl.rl.run_dir import ConfigMismatchError, latest_checkpoint, save_or_check_config
 from mobilemani_rl.train import train
 
@@ -94,3 +96,7 @@ def test_multi_object_policy_trains_over_a_category_and_evaluates_per_split(tmp_
     result = evaluate(latest_checkpoint(run_dir), episodes=2, seed=0)
     assert set(result["success_by_split"]) == {"train", "test"}
     assert len(result["objects"]) == 36  # laptop: 30 train + 6 test objects
+    # The headline is the policy's own task: the two objects it trained on, not the category's 36.
+    trained = [oid for oid, entry in result["objects"].items() if entry["trained"]]
+    assert trained == policy_objects("laptop", 2)
+    assert result["success_rate"] == np.mean([result["objects"][oid]["success_rate"] for oid in trained])

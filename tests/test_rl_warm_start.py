@@ -10,6 +10,8 @@ from hydra import compose, initialize_config_dir
 from tensordict import TensorDict
 
 from mobilemani_rl.rl.factory import build_runner, ppo_cfg_from_hydra
+from mobilemani_rl.rl.run_dir import ConfigMismatchError, latest_checkpoint
+from mobilemani_rl.rl.runner import MobileManiRunner
 from mobilemani_rl.rl.warm_start import collect, discounted_returns, warm_start
 from mobilemani_rl.train import train
 
@@ -80,6 +82,38 @@ def test_training_starts_from_the_warm_start_once(tmp_path):
     written = (run_dir / "warm_start.json").stat().st_mtime_ns
     train(compose_rl(overrides))
     assert (run_dir / "warm_start.json").stat().st_mtime_ns == written and (run_dir / "result.json").exists()
+
+
+def _interrupt(*args, **kwargs):
+    raise KeyboardInterrupt  # what Ctrl-C raises wherever the run is
+
+
+def _must_not_run(*args, **kwargs):
+    raise AssertionError("the finished warm start was redone")
+
+
+def test_a_finished_warm_start_survives_an_interrupt_and_an_unfinished_one_leaves_nothing(tmp_path, monkeypatch,
+                                                                                           capsys):
+    run_dir = tmp_path / "run"
+    overrides = [*TINY, f"run_dir={run_dir}", "rl.ppo.max_iterations=1"]
+    with monkeypatch.context() as patch, pytest.raises(KeyboardInterrupt):
+        patch.setattr("mobilemani_rl.rl.warm_start.fit", _interrupt)  # Ctrl-C after collection, while fitting
+        train(compose_rl(overrides))
+    assert not list(run_dir.glob("warm_start*")) and latest_checkpoint(run_dir) is None
+    # The warm start reports its totals with an ETA (tqdm bars on stderr).
+    assert "warm start: 8 scripted episodes: 100%" in capsys.readouterr().err
+    with monkeypatch.context() as patch, pytest.raises(KeyboardInterrupt):
+        patch.setattr(MobileManiRunner, "learn", _interrupt)  # Ctrl-C in PPO before its first checkpoint
+        train(compose_rl(overrides))
+    assert (run_dir / "warm_start.json").exists() and (run_dir / "warm_start.pt").exists()
+    assert not list(run_dir.glob("*.tmp")) and latest_checkpoint(run_dir) is None
+    assert "warm start: fitting the critic: 100%|" in capsys.readouterr().err
+    with pytest.raises(ConfigMismatchError):  # the kept warm start belongs to the saved config
+        train(compose_rl([*overrides, "rl.ppo.warm_start.epochs=5"]))
+    monkeypatch.setattr("mobilemani_rl.train.warm_start", _must_not_run)
+    train(compose_rl(overrides))
+    assert f"resuming {run_dir} from its finished warm start (warm_start.pt)" in capsys.readouterr().out
+    assert (run_dir / "result.json").exists()
 
 
 def test_multi_object_env_collects_episodes_of_every_object():

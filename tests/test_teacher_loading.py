@@ -1,18 +1,23 @@
 """One teacher loader for evaluation, data and the harness; checkpoints load as tensors only."""
 
+import json
 import pickle
 import shutil
 from pathlib import Path
 
 import pytest
 import torch
+from data_helpers import tiny_cfg
 from hydra import compose, initialize_config_dir
 
-from mobilemani_rl.rl.run_dir import CONFIG
+from mobilemani_data.teachers import TeacherUnavailable, build_teacher
+from mobilemani_rl.assets.objects import catalog_ids
+from mobilemani_rl.rl.run_dir import CONFIG, RESULT, latest_checkpoint
+from mobilemani_rl.tasks import select_combinations
 from mobilemani_rl.teacher import (
     TeacherPolicy,
+    find_teacher_checkpoint,
     load_teacher,
-    newest_checkpoint,
     teacher_run_dir,
     trained_success,
 )
@@ -40,17 +45,18 @@ class _RunsCode:
 def test_loader_finds_loads_and_refuses_code(trained_run, tmp_path, monkeypatch):
     runs_dir, robot, object_id, skill = trained_run
     run_dir = teacher_run_dir(runs_dir, robot, object_id, skill)
-    checkpoint = newest_checkpoint(run_dir)
+    checkpoint = find_teacher_checkpoint(runs_dir, robot, object_id, skill)
+    assert checkpoint == latest_checkpoint(run_dir)
     assert 0.0 <= trained_success(run_dir) <= 1.0 and trained_success(tmp_path) is None
     env, actor = load_teacher(checkpoint, num_envs=3)
     actions = TeacherPolicy(env, actor)()
     assert actions.shape == (3, env.num_actions) and torch.isfinite(torch.as_tensor(actions)).all()
 
-    with pytest.raises(FileNotFoundError, match="no teacher checkpoint"):
-        newest_checkpoint(tmp_path)
+    with pytest.raises(FileNotFoundError, match="no teacher checkpoint .* nor in its category's run"):
+        find_teacher_checkpoint(tmp_path, robot, object_id, skill)
     crafted = tmp_path / "run"
     shutil.copytree(run_dir, crafted)
-    bad = newest_checkpoint(crafted)
+    bad = latest_checkpoint(crafted)
     bad.write_bytes(pickle.dumps({"model_state_dict": _RunsCode()}))
     monkeypatch.chdir(tmp_path)
     with pytest.raises(ValueError, match=str(bad)):
@@ -59,3 +65,27 @@ def test_loader_finds_loads_and_refuses_code(trained_run, tmp_path, monkeypatch)
     (crafted / CONFIG).unlink()
     with pytest.raises(FileNotFoundError, match=CONFIG):
         load_teacher(bad, num_envs=1)
+
+
+def test_collection_falls_back_to_the_category_teacher_and_says_how_to_keep_a_weak_one(tmp_path):
+    """`make rl OBJECT=box` trains one policy for the category; collection on any box without its own run uses it."""
+    runs_dir = tmp_path / "runs"
+    with initialize_config_dir(config_dir=CONF, version_base="1.3"):
+        cfg = compose(config_name="rl", overrides=["rl/ppo=tiny", f"run_dir={runs_dir / 'g1/box/open'}",
+                                                   "task.object=box", "objects_per_policy=2",
+                                                   "rl.ppo.max_iterations=1"])
+    train(cfg)
+    object_id = catalog_ids("box", "test")[0]  # never trained on, and no run of its own
+    checkpoint = find_teacher_checkpoint(runs_dir, "g1", object_id, "open")
+    assert checkpoint.parent == runs_dir / "g1/box/open"
+    data = tiny_cfg(tmp_path / "data", "data/teacher=ppo", f"teacher.runs_dir={runs_dir}", f"subset.objects=[{object_id}]",
+                    "subset.skills=[open]", "subset.scenes_per_object=1")
+    combo = select_combinations(data.robot, data.subset)[0]
+    teacher = build_teacher(data.teacher, combo, data.env, 2, seed=0)
+    assert teacher.name == str(checkpoint) and teacher.env.cfg.task.object == object_id  # one object, not the category
+    assert teacher.policy().shape == (2, teacher.env.num_actions)
+
+    result = checkpoint.parent / RESULT
+    result.write_text(json.dumps({**json.loads(result.read_text()), "train_success": 0.05}))
+    with pytest.raises(TeacherUnavailable, match=r"0.05 < teacher.min_train_success=0.1 .*teacher.min_train_success=0,"):
+        build_teacher(data.teacher, combo, data.env, 2, seed=0)

@@ -34,7 +34,9 @@ class RslRlVecEnv(VecEnv):
     @episode_length_buf.setter
     def episode_length_buf(self, value: torch.Tensor) -> None:
         # rsl-rl randomises episode lengths at start (init_at_random_ep_len); the time encoding is unaffected.
-        self.env.episode_length_buf[:] = value.cpu().numpy()
+        # Assigned, not written into: a MultiObjectEnv's buffer is a property concatenating its parts (a copy), and
+        # a lost write left all its episodes in step, so whole PPO iterations ended none (success/reward NaN).
+        self.env.episode_length_buf = value.cpu().numpy().astype(np.int64)
 
     def _observations(self, obs: np.ndarray) -> TensorDict:
         return TensorDict({"policy": torch.from_numpy(obs).to(self.device)}, batch_size=[self.num_envs],

@@ -1,7 +1,8 @@
 """A training run's directory: its config, checkpoints, curve and completion marker.
 
 A run directory is complete only once `result.json` exists (written atomically last), so an interrupted run
-never looks finished; rerunning resumes from the newest checkpoint with the saved config.
+never looks finished; rerunning resumes from the newest checkpoint with the saved config, or from the finished
+warm start (`warm_start.pt`, written atomically once it is done) when PPO has saved none yet.
 """
 
 from __future__ import annotations
@@ -15,6 +16,7 @@ CONFIG = "config.yaml"
 RESULT = "result.json"
 CURVE = "curve.json"
 WARM_START = "warm_start.json"  # behaviour-cloning statistics, when the run started from the scripted policy
+WARM_START_CHECKPOINT = "warm_start.pt"  # the runner right after the warm start (minutes of work a rerun keeps)
 _CHECKPOINT = re.compile(r"model_(\d+)\.pt$")
 
 
@@ -33,10 +35,11 @@ def is_complete(run_dir: Path) -> bool:
 
 def save_or_check_config(run_dir: Path, cfg: DictConfig, keys: tuple[str, ...]) -> None:
     """Store the (resolved) config of a new run; for an existing run, require the same values under `keys`. A run
-    that stopped before its first checkpoint has nothing to resume, so its config is simply replaced."""
+    that stopped before its first checkpoint (or its finished warm start) has nothing to resume, so its config is
+    simply replaced."""
     path = run_dir / CONFIG
     current = OmegaConf.create(OmegaConf.to_container(cfg, resolve=True))
-    if not path.exists() or latest_checkpoint(run_dir) is None:
+    if not path.exists() or (latest_checkpoint(run_dir) is None and not (run_dir / WARM_START_CHECKPOINT).exists()):
         run_dir.mkdir(parents=True, exist_ok=True)
         OmegaConf.save(current, path)
         return

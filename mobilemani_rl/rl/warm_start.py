@@ -18,6 +18,7 @@ from dataclasses import dataclass
 import numpy as np
 import torch
 from tensordict import TensorDict
+from tqdm import tqdm
 
 from mobilemani_rl.envs.mobilemani_env import MobileManiEnv, StepResult
 from mobilemani_rl.envs.multi_object import MultiObjectEnv
@@ -37,10 +38,10 @@ class Demonstrations:
 
 class _LabellingPolicy:
     """Executes the scripted policy's actions plus noise and stores each step's observation, the scripted
-    (noise-free) action and the reward."""
+    (noise-free) action and the reward; counts each control step on the progress bar."""
 
-    def __init__(self, env: MobileManiEnv, noise: float, seed: int) -> None:
-        self.env, self.noise = env, noise
+    def __init__(self, env: MobileManiEnv, noise: float, seed: int, bar: tqdm) -> None:
+        self.env, self.noise, self.bar = env, noise, bar
         self.rng = np.random.default_rng(seed)
         self.scripted = ScriptedPolicy(env)
         self.obs: list[np.ndarray] = []
@@ -54,6 +55,7 @@ class _LabellingPolicy:
 
     def on_step(self, result: StepResult) -> None:
         self.rewards.append(result.reward)
+        self.bar.update()
 
 
 def discounted_returns(rewards: np.ndarray, gamma: float) -> np.ndarray:
@@ -66,9 +68,9 @@ def discounted_returns(rewards: np.ndarray, gamma: float) -> np.ndarray:
     return returns
 
 
-def record_batch(env: MobileManiEnv, noise: float, seed: int, gamma: float) -> Demonstrations:
+def record_batch(env: MobileManiEnv, noise: float, seed: int, gamma: float, bar: tqdm) -> Demonstrations:
     """One perturbed scripted episode in every env of the batch."""
-    policy = _LabellingPolicy(env, noise, seed)
+    policy = _LabellingPolicy(env, noise, seed, bar)
     stats = run_first_episodes(env, policy, seed, on_step=policy.on_step)
     in_episode = np.arange(len(policy.obs))[:, None] < stats.length[None, :]  # (steps, envs)
     returns = discounted_returns(np.where(in_episode, np.stack(policy.rewards), 0.0), gamma)
@@ -79,30 +81,42 @@ def record_batch(env: MobileManiEnv, noise: float, seed: int, gamma: float) -> D
 def collect(env: MobileManiEnv | MultiObjectEnv, episodes: int, noise: float, seed: int,
             gamma: float) -> Demonstrations:
     """At least `episodes` labelled episodes of every object (a multi-object env holds one env per object)."""
-    parts = [record_batch(part, noise, seed + i, gamma)
-             for part in (env.envs if isinstance(env, MultiObjectEnv) else [env])
-             for i in range(math.ceil(episodes / part.num_envs))]
+    batches = [(part, seed + i) for part in (env.envs if isinstance(env, MultiObjectEnv) else [env])
+               for i in range(math.ceil(episodes / part.num_envs))]
+    length = env.max_episode_length
+    # Minutes on a CPU: a bar over the batches' control steps gives the total and an ETA.
+    with tqdm(total=len(batches) * length, unit="step", dynamic_ncols=True,
+              desc=f"warm start: {sum(part.num_envs for part, _ in batches)} scripted episodes") as bar:
+        parts = []
+        for k, (part, batch_seed) in enumerate(batches):
+            parts.append(record_batch(part, noise, batch_seed, gamma, bar))
+            bar.n = (k + 1) * length  # a batch whose episodes all ended early skips its remaining steps
+            bar.refresh()
     return Demonstrations(*(np.concatenate([getattr(p, f) for p in parts]) for f in ("obs", "actions", "returns")),
                           episodes=sum(p.episodes for p in parts), successes=sum(p.successes for p in parts))
 
 
-def fit(model: torch.nn.Module, inputs: np.ndarray, targets: np.ndarray, cfg: WarmStartCfg) -> list[float]:
+def fit(model: torch.nn.Module, inputs: np.ndarray, targets: np.ndarray, cfg: WarmStartCfg,
+        name: str) -> list[float]:
     """Mean-squared-error regression of the model's (deterministic) output; returns the loss of each epoch."""
     x = torch.from_numpy(inputs).float()
     y = torch.from_numpy(targets).float().reshape(len(targets), -1)
     optimizer = torch.optim.Adam(model.parameters(), lr=cfg.learning_rate)
     generator = torch.Generator().manual_seed(cfg.seed)
     losses = []
-    for _ in range(cfg.epochs):
-        total = 0.0
-        for batch in torch.randperm(len(x), generator=generator).split(cfg.mini_batch_size):
-            prediction = model(TensorDict({"policy": x[batch]}, batch_size=[len(batch)]))
-            loss = torch.nn.functional.mse_loss(prediction, y[batch])
-            optimizer.zero_grad()
-            loss.backward()
-            optimizer.step()
-            total += loss.item() * len(batch)
-        losses.append(total / len(x))
+    with tqdm(total=cfg.epochs, desc=f"warm start: fitting the {name}", unit="epoch", dynamic_ncols=True) as bar:
+        for _ in range(cfg.epochs):
+            total = 0.0
+            for batch in torch.randperm(len(x), generator=generator).split(cfg.mini_batch_size):
+                prediction = model(TensorDict({"policy": x[batch]}, batch_size=[len(batch)]))
+                loss = torch.nn.functional.mse_loss(prediction, y[batch])
+                optimizer.zero_grad()
+                loss.backward()
+                optimizer.step()
+                total += loss.item() * len(batch)
+            losses.append(total / len(x))
+            bar.set_postfix(loss=f"{losses[-1]:.4g}", refresh=False)
+            bar.update()
     return losses
 
 
@@ -117,8 +131,8 @@ def warm_start(actor: torch.nn.Module, critic: torch.nn.Module, env: MobileManiE
     for model in (actor, critic):  # the normalisers start from the scripted states, as PPO's policy would see
         model.train()
         model.update_normalization(obs)
-    actor_losses = fit(actor, demos.obs, demos.actions, cfg)
-    critic_losses = fit(critic, demos.obs, demos.returns, cfg)
+    actor_losses = fit(actor, demos.obs, demos.actions, cfg, "actor")
+    critic_losses = fit(critic, demos.obs, demos.returns, cfg, "critic")
     with torch.no_grad():
         actor.distribution.std_param.fill_(cfg.noise_std)
     env.reset(seed=cfg.seed)

@@ -13,7 +13,7 @@ from tensordict import TensorDict
 
 from mobilemani_rl.envs.mobilemani_env import MobileManiEnv
 from mobilemani_rl.scripted import ScriptedPolicy
-from mobilemani_rl.teacher import load_teacher, newest_checkpoint, teacher_run_dir
+from mobilemani_rl.teacher import find_teacher_checkpoint, load_teacher
 from mobilemani_vla.policies.base import PRIVILEGED_STATE, EvalPolicy, Observation
 
 
@@ -47,7 +47,8 @@ class TeacherEvalPolicy(EvalPolicy):
     """Deterministic actor of a PPO checkpoint on the privileged RL observation.
 
     `checkpoint` fixes one checkpoint; otherwise each task uses the newest model_*.pt under
-    <runs_dir>/<robot>/<object>/<skill> (the layout of mobilemani_rl.train).
+    <runs_dir>/<robot>/<object>/<skill> (the layout of mobilemani_rl.train), else under its category's run
+    <runs_dir>/<robot>/<category>/<skill>.
     """
 
     name = "teacher"
@@ -62,7 +63,7 @@ class TeacherEvalPolicy(EvalPolicy):
         if self.checkpoint is not None:
             return self.checkpoint
         task = env.cfg.task
-        return newest_checkpoint(teacher_run_dir(self.runs_dir, task.robot, task.object, task.skill))
+        return find_teacher_checkpoint(self.runs_dir, task.robot, task.object, task.skill)
 
     def start(self, env: MobileManiEnv, seed: int) -> None:
         checkpoint = self._checkpoint_for(env)
