@@ -9,6 +9,7 @@ PPO's first checkpoint, from the finished warm start); a finished run (result.js
 
 from __future__ import annotations
 
+import math
 import time
 from pathlib import Path
 
@@ -66,13 +67,18 @@ def train(cfg: DictConfig) -> Path:
     if start and previous.exists():
         curve = OmegaConf.to_container(OmegaConf.load(previous)) + curve
     write_json_atomic(run_dir / CURVE, curve)
-    last = curve[-1] if curve else {}
     write_json_atomic(run_dir / RESULT, {
         "iterations": ppo.max_iterations, "samples": ppo.max_iterations * ppo.num_envs * ppo.num_steps_per_env,
-        "train_success": last.get("success"), "wall_seconds_this_session": round(time.time() - wall, 1),
+        "train_success": last_measured_success(curve), "wall_seconds_this_session": round(time.time() - wall, 1),
         "checkpoint": str(latest_checkpoint(run_dir)),
     })
     return run_dir
+
+
+def last_measured_success(curve: list[dict]) -> float | None:
+    """The newest finite success of a training curve: an iteration in which no episode ended logs NaN."""
+    measured = [row["success"] for row in curve if isinstance(row.get("success"), float) and math.isfinite(row["success"])]
+    return measured[-1] if measured else None
 
 
 @hydra.main(config_path="../conf", config_name="rl", version_base="1.3")

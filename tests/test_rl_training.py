@@ -100,3 +100,11 @@ def test_multi_object_policy_trains_over_a_category_and_evaluates_per_split(tmp_
     trained = [oid for oid, entry in result["objects"].items() if entry["trained"]]
     assert trained == policy_objects("laptop", 2)
     assert result["success_rate"] == np.mean([result["objects"][oid]["success_rate"] for oid in trained])
+
+
+def test_the_run_result_keeps_the_last_measured_success_not_a_nan():
+    from mobilemani_rl.train import last_measured_success
+
+    curve = [{"success": 0.5}, {"success": 0.75}, {"success": float("nan")}]
+    assert last_measured_success(curve) == 0.75
+    assert last_measured_success([{"success": float("nan")}]) is None
