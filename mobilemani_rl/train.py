@@ -14,7 +14,7 @@ import time
 from pathlib import Path
 
 import hydra
-from omegaconf import DictConfig, OmegaConf
+from omegaconf import DictConfig
 
 from mobilemani_rl.eval import evaluate
 from mobilemani_rl.io import write_json_atomic
@@ -47,6 +47,7 @@ def train(cfg: DictConfig) -> Path:
         runner.load(str(checkpoint))
         start = runner.current_learning_iteration + 1
         runner.current_learning_iteration = start
+        runner.resume_curve(start)
         print(f"resuming {run_dir} from {checkpoint.name} (iteration {start} of {ppo.max_iterations})")
     elif (warm := run_dir / WARM_START_CHECKPOINT).exists():
         runner.load(str(warm))
@@ -63,9 +64,6 @@ def train(cfg: DictConfig) -> Path:
     if remaining > 0:
         runner.learn(num_learning_iterations=remaining, init_at_random_ep_len=ppo.init_at_random_ep_len)
     curve = runner.logger.curve
-    previous = run_dir / CURVE
-    if start and previous.exists():
-        curve = OmegaConf.to_container(OmegaConf.load(previous)) + curve
     write_json_atomic(run_dir / CURVE, curve)
     write_json_atomic(run_dir / RESULT, {
         "iterations": ppo.max_iterations, "samples": ppo.max_iterations * ppo.num_envs * ppo.num_steps_per_env,

@@ -4,13 +4,18 @@ from __future__ import annotations
 
 import contextlib
 import io
+import json
 import os
+from pathlib import Path
 
 import numpy as np
 import torch
 from rsl_rl.runners import OnPolicyRunner
 from rsl_rl.utils.logger import Logger
 from tqdm import tqdm
+
+from mobilemani_rl.io import write_json_atomic
+from mobilemani_rl.rl.run_dir import CURVE
 
 SUCCESS_KEY = "/episode/success_flag"
 
@@ -54,6 +59,7 @@ class MobileManiRunner(OnPolicyRunner):
         self.logger = ProgressLogger(log_dir=log_dir, cfg=self.cfg, env_cfg=env.cfg, num_envs=env.num_envs,
                                      is_distributed=False, gpu_world_size=1, gpu_global_rank=0, device="cpu",
                                      total_iterations=total_iterations)
+        self.curve_path = Path(log_dir) / CURVE if log_dir else None
 
     def load(self, path: str, load_cfg: dict | None = None, strict: bool = True,
              map_location: str | None = None) -> dict:
@@ -67,8 +73,17 @@ class MobileManiRunner(OnPolicyRunner):
             self.current_learning_iteration = loaded["iter"]
         return loaded["infos"]
 
+    def resume_curve(self, start: int) -> None:
+        """Continue the saved curve of a run resumed at iteration `start` (its rows from before the checkpoint)."""
+        if self.curve_path is not None and self.curve_path.is_file():
+            rows = json.loads(self.curve_path.read_text())
+            self.logger.curve = [row for row in rows if row["iteration"] < start]
+
     def save(self, path: str, infos: dict | None = None) -> None:
-        """Write to a temporary file, then rename: a killed run never leaves a truncated checkpoint."""
+        """Write to a temporary file, then rename: a killed run never leaves a truncated checkpoint. The curve up to
+        the checkpoint is saved with it, so a run resumed after a kill keeps its whole curve."""
         tmp = f"{path}.tmp"
         super().save(tmp, infos)
         os.replace(tmp, path)
+        if self.curve_path is not None:
+            write_json_atomic(self.curve_path, self.logger.curve)
