@@ -24,13 +24,27 @@ from mobilemani_rl.rl.run_dir import (
     RESULT,
     WARM_START,
     WARM_START_CHECKPOINT,
+    checkpoints,
     is_complete,
     latest_checkpoint,
     save_or_check_config,
 )
+from mobilemani_rl.rl.runner import MobileManiRunner
 from mobilemani_rl.rl.warm_start import warm_start
 
 RUN_KEYS = ("task", "env", "rl")
+
+
+def load_newest_readable(runner: MobileManiRunner, run_dir: Path) -> Path | None:
+    """Load the newest checkpoint that reads back; an unreadable one (a disk fault, a copy cut short) is named and
+    skipped, so the run continues from the previous good one."""
+    for path in checkpoints(run_dir):
+        try:
+            runner.load(str(path))
+            return path
+        except ValueError as err:
+            print(f"skipping an unreadable checkpoint: {err}")
+    return None
 
 
 def train(cfg: DictConfig) -> Path:
@@ -43,8 +57,7 @@ def train(cfg: DictConfig) -> Path:
     runner = build_runner(cfg, run_dir)
     wall = time.time()
     start = 0
-    if (checkpoint := latest_checkpoint(run_dir)) is not None:
-        runner.load(str(checkpoint))
+    if (checkpoint := load_newest_readable(runner, run_dir)) is not None:
         start = runner.current_learning_iteration + 1
         runner.current_learning_iteration = start
         runner.resume_curve(start)

@@ -108,3 +108,17 @@ def test_the_run_result_keeps_the_last_measured_success_not_a_nan():
     curve = [{"success": 0.5}, {"success": 0.75}, {"success": float("nan")}]
     assert last_measured_success(curve) == 0.75
     assert last_measured_success([{"success": float("nan")}]) is None
+
+
+def test_an_unreadable_newest_checkpoint_falls_back_to_the_previous_one(tmp_path, capsys):
+    run_dir = tmp_path / "run"
+    cfg = compose_rl(["rl/ppo=tiny", f"run_dir={run_dir}"])
+    train(cfg)
+    (run_dir / "result.json").unlink()
+    newest = latest_checkpoint(run_dir)
+    newest.write_bytes(newest.read_bytes()[:100])  # cut short
+    train(cfg)
+    out = capsys.readouterr().out
+    assert f"skipping an unreadable checkpoint: cannot load teacher checkpoint {newest}" in out
+    assert "resuming" in out and (run_dir / "result.json").exists()
+    assert [row["iteration"] for row in json.loads((run_dir / "curve.json").read_text())] == [0, 1, 2]

@@ -24,9 +24,15 @@ class ConfigMismatchError(ValueError):
     """Resuming a run with a config that differs from the one it was started with."""
 
 
-def latest_checkpoint(run_dir: Path) -> Path | None:
+def checkpoints(run_dir: Path) -> list[Path]:
+    """The run's PPO checkpoints, newest first."""
     found = [(int(m.group(1)), p) for p in run_dir.glob("model_*.pt") if (m := _CHECKPOINT.search(p.name))]
-    return max(found)[1] if found else None
+    return [p for _, p in sorted(found, reverse=True)]
+
+
+def latest_checkpoint(run_dir: Path) -> Path | None:
+    found = checkpoints(run_dir)
+    return found[0] if found else None
 
 
 def is_complete(run_dir: Path) -> bool:
