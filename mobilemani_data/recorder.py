@@ -15,6 +15,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from mobilemani_data.shards import FRAME_KEYS, Episode
+from mobilemani_rl.envs.actions import dart_perturbed
 from mobilemani_rl.envs.mobilemani_env import MobileManiEnv
 
 Policy = Callable[[], np.ndarray]
@@ -47,8 +48,7 @@ def collect_successes(env: MobileManiEnv, policy: Policy, episodes: int, max_ste
     """Step all envs until the first `episodes` successes in (round, slot) order are known, or `max_steps` ran.
 
     With `action_noise` > 0 the envs execute the teacher's action plus Gaussian noise of that standard deviation
-    while the clean action is recorded (DART): the episodes then show how the teacher corrects small deviations,
-    states a policy imitating it meets after its own errors.
+    while the clean action is recorded (DART, `dart_perturbed`).
     """
     env.reset(seed=seed)
     noise_rng = np.random.default_rng(seed)
@@ -69,7 +69,7 @@ def collect_successes(env: MobileManiEnv, policy: Policy, episodes: int, max_ste
         actions = np.clip(np.nan_to_num(np.asarray(policy(), dtype=np.float64), nan=0.0), -1.0, 1.0)
         snap["action"] = actions
         if action_noise > 0:
-            actions = np.clip(actions + noise_rng.normal(0.0, action_noise, actions.shape), -1.0, 1.0)
+            actions = dart_perturbed(actions, action_noise, noise_rng)
         result = env.step(actions)
         steps += 1
         success = result.success_flag.copy()

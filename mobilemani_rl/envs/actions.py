@@ -15,3 +15,10 @@ def checked_actions(actions: np.ndarray, num_envs: int, action_dim: int) -> tupl
                          f"got {actions.shape}")
     nan = np.isnan(actions)
     return np.where(nan, 0.0, np.clip(actions, -1.0, 1.0)), nan.sum(axis=1)
+
+
+def dart_perturbed(actions: np.ndarray, std: float, rng: np.random.Generator) -> np.ndarray:
+    """`actions` plus Gaussian noise of standard deviation `std`, clamped as the env will (DART, Laskey et al. 2017).
+    The env executes these while the clean actions are the labels, so demonstrations show the teacher correcting
+    deviations like those a policy imitating it makes."""
+    return np.clip(actions + std * rng.standard_normal(np.shape(actions)), -1.0, 1.0)

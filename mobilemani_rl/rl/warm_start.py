@@ -20,6 +20,7 @@ import torch
 from tensordict import TensorDict
 from tqdm import tqdm
 
+from mobilemani_rl.envs.actions import dart_perturbed
 from mobilemani_rl.envs.mobilemani_env import MobileManiEnv, StepResult
 from mobilemani_rl.envs.multi_object import MultiObjectEnv
 from mobilemani_rl.rl.config import WarmStartCfg
@@ -51,7 +52,7 @@ class _LabellingPolicy:
     def __call__(self) -> np.ndarray:
         self.obs.append(self.env.obs.copy())
         self.labels.append(self.scripted())
-        return self.labels[-1] + self.noise * self.rng.standard_normal(self.labels[-1].shape)
+        return dart_perturbed(self.labels[-1], self.noise, self.rng)
 
     def on_step(self, result: StepResult) -> None:
         self.rewards.append(result.reward)
