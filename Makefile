@@ -20,8 +20,9 @@ setup: $(VENV)/.installed
 $(VENV)/.installed: pyproject.toml
 	@test -n "$(PYTHON312)" || { echo "error: Python 3.12 not found on PATH or under pyenv"; exit 1; }
 	@test -x $(PY) || $(PYTHON312) -m venv $(VENV)
+	@echo "installing into $(VENV): ~2.3 GB of downloads, 6 GB installed, several minutes (pip's progress below)"
 	$(PY) -m pip install --quiet --upgrade pip
-	$(PY) -m pip install --quiet -e ".[dev]"
+	$(PY) -m pip install --progress-bar on -e ".[dev]"
 	touch $@
 
 test: setup
