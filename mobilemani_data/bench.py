@@ -30,7 +30,9 @@ def _bytes(path: Path) -> int:
 
 
 def run_bench(cfg: DataCfg, workdir: Path) -> dict:
-    cfg = replace(cfg, raw_dir=str(workdir / "raw"), subset=SubsetCfg(**BENCH_SUBSET, episodes=cfg.bench.episodes))
+    cfg = replace(
+        cfg, raw_dir=str(workdir / "raw"), subset=SubsetCfg(**BENCH_SUBSET, episodes=cfg.bench.episodes)
+    )
     collect(cfg)
     raw_bytes = _bytes(workdir / "raw")
     results = []
@@ -38,17 +40,26 @@ def run_bench(cfg: DataCfg, workdir: Path) -> dict:
         export_cfg = replace(cfg.export, width=size, height=size, overwrite=True)
         root = workdir / f"lerobot_{size}"
         report = export(replace(cfg, dataset_dir=str(root), export=export_cfg))
-        results.append({
-            "size": size,
-            "frames": report.frames,
-            "frames_per_s": round(report.frames / report.total_s, 1),
-            "render_share": round(report.render_s / report.total_s, 3),
-            "episode_mb": round(_bytes(root) / report.episodes / 2**20, 3),
-            "mean_episode_frames": round(report.frames / report.episodes, 1),
-        })
-    return {"robot": cfg.robot, "subset": BENCH_SUBSET, "episodes": cfg.bench.episodes,
-            "vcodec": cfg.export.vcodec, "crf": cfg.export.crf, "gop": cfg.export.gop,
-            "raw_shard_mb_per_episode": round(raw_bytes / cfg.bench.episodes / 2**20, 3), "results": results}
+        results.append(
+            {
+                "size": size,
+                "frames": report.frames,
+                "frames_per_s": round(report.frames / report.total_s, 1),
+                "render_share": round(report.render_s / report.total_s, 3),
+                "episode_mb": round(_bytes(root) / report.episodes / 2**20, 3),
+                "mean_episode_frames": round(report.frames / report.episodes, 1),
+            }
+        )
+    return {
+        "robot": cfg.robot,
+        "subset": BENCH_SUBSET,
+        "episodes": cfg.bench.episodes,
+        "vcodec": cfg.export.vcodec,
+        "crf": cfg.export.crf,
+        "gop": cfg.export.gop,
+        "raw_shard_mb_per_episode": round(raw_bytes / cfg.bench.episodes / 2**20, 3),
+        "results": results,
+    }
 
 
 @hydra.main(config_path="../conf", config_name="data", version_base="1.3")
@@ -60,10 +71,14 @@ def main(cfg: DictConfig) -> None:
     out.parent.mkdir(parents=True, exist_ok=True)
     out.write_text(json.dumps(report, indent=2))
     print(json.dumps(report, indent=2))
-    print(f"{'size':>5} {'frames/s (render+encode)':>25} {'render share':>13} {'MB/episode':>11} {'frames/ep':>10}")
+    print(
+        f"{'size':>5} {'frames/s (render+encode)':>25} {'render share':>13} {'MB/episode':>11} {'frames/ep':>10}"
+    )
     for r in report["results"]:
-        print(f"{r['size']:>5} {r['frames_per_s']:>25} {r['render_share']:>13} {r['episode_mb']:>11} "
-              f"{r['mean_episode_frames']:>10}")
+        print(
+            f"{r['size']:>5} {r['frames_per_s']:>25} {r['render_share']:>13} {r['episode_mb']:>11} "
+            f"{r['mean_episode_frames']:>10}"
+        )
     print(f"raw HDF5 shard: {report['raw_shard_mb_per_episode']} MB/episode")
 
 

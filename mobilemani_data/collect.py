@@ -31,18 +31,34 @@ def collect_combination(cfg: DataCfg, combo: Combination, path: Path) -> str:
         teacher = build_teacher(cfg.teacher, combo, cfg.env, cfg.collect.num_envs, seed)
     except TeacherUnavailable as err:
         return f"skipped: {err}"
-    rollouts = collect_successes(teacher.env, teacher.policy, cfg.subset.episodes, cfg.collect.max_steps, seed,
-                                 cfg.collect.action_noise)
-    header = {**combo.metadata(), "instruction": combo.instruction, "teacher": teacher.name, "seed": seed,
-              "action_noise": cfg.collect.action_noise,
-              "fps": schema.FPS, "requested": cfg.subset.episodes, "attempts": rollouts.attempts,
-              "steps": rollouts.steps, "capped": rollouts.capped,
-              "env_cfg": OmegaConf.to_yaml(OmegaConf.structured(teacher.env.cfg))}
+    rollouts = collect_successes(
+        teacher.env,
+        teacher.policy,
+        cfg.subset.episodes,
+        cfg.collect.max_steps,
+        seed,
+        cfg.collect.action_noise,
+    )
+    header = {
+        **combo.metadata(),
+        "instruction": combo.instruction,
+        "teacher": teacher.name,
+        "seed": seed,
+        "action_noise": cfg.collect.action_noise,
+        "fps": schema.FPS,
+        "requested": cfg.subset.episodes,
+        "attempts": rollouts.attempts,
+        "steps": rollouts.steps,
+        "capped": rollouts.capped,
+        "env_cfg": OmegaConf.to_yaml(OmegaConf.structured(teacher.env.cfg)),
+    }
     write_shard(path, header, rollouts.episodes, cfg.collect.compression)
     lengths = [ep.length for ep in rollouts.episodes]
     capped = " (step cap reached)" if rollouts.capped else ""
-    return (f"{len(lengths)}/{cfg.subset.episodes} episodes from {rollouts.attempts} attempts{capped}, "
-            f"mean length {sum(lengths) / max(1, len(lengths)):.0f}")
+    return (
+        f"{len(lengths)}/{cfg.subset.episodes} episodes from {rollouts.attempts} attempts{capped}, "
+        f"mean length {sum(lengths) / max(1, len(lengths)):.0f}"
+    )
 
 
 def collect(cfg: DataCfg) -> list[Path]:
@@ -58,8 +74,11 @@ def collect(cfg: DataCfg) -> list[Path]:
             continue
         start = time.perf_counter()
         summary = collect_combination(cfg, combo, path)
-        print(f"[{k + 1}/{len(combos)}] {combo.name}: {summary} ({time.perf_counter() - start:.1f} s) | "
-              f"{progress.advance()}", flush=True)
+        print(
+            f"[{k + 1}/{len(combos)}] {combo.name}: {summary} ({time.perf_counter() - start:.1f} s) | "
+            f"{progress.advance()}",
+            flush=True,
+        )
     return paths
 
 

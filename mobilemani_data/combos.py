@@ -17,4 +17,4 @@ def shard_of(combos: list[Combination], shard: ShardCfg) -> list[Combination]:
     """Round-robin share of one job, so that jobs get similar mixes of categories."""
     if not 0 <= shard.index < shard.count:
         raise ValueError(f"shard.index must be in [0, {shard.count}), got {shard.index}")
-    return combos[shard.index::shard.count]
+    return combos[shard.index :: shard.count]

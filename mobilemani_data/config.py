@@ -17,14 +17,18 @@ from mobilemani_rl.tasks import SubsetCfg
 @dataclass
 class TeacherCfg:
     kind: str = "scripted"  # scripted | ppo
-    runs_dir: str = "runs/rl"  # ppo: newest <runs_dir>/<robot>/<object or else its category>/<skill>/model_*.pt
+    runs_dir: str = (
+        "runs/rl"  # ppo: newest <runs_dir>/<robot>/<object or else its category>/<skill>/model_*.pt
+    )
     min_train_success: float = 0.1  # ppo: skip tasks whose teacher trained below this (docs/reference.md §8a)
 
 
 @dataclass
 class CollectCfg:
     num_envs: int = 16  # episodes run in parallel per combination
-    max_steps: int = 6000  # control steps of the batch per combination before giving up (docs/reference.md §8a)
+    max_steps: int = (
+        6000  # control steps of the batch per combination before giving up (docs/reference.md §8a)
+    )
     seed: int = 0  # mixed with each combination's name into its env seed
     compression: int = 4  # gzip level of the HDF5 datasets
     action_noise: float = 0.0  # std of Gaussian noise added to the executed (not the recorded) action: DART
@@ -48,7 +52,9 @@ class ExportCfg:
     gop: int = 2  # keyframe interval: small so random frame access stays cheap
     preset: int | None = None  # None: the codec's default
     streaming_encoding: bool = True  # encode frames as they come (no temporary PNGs)
-    action_convention: str = "conjugate"  # base_frame.Convention; "reference": the released data's quirk (docs/reference.md §10.3)
+    action_convention: str = (
+        "conjugate"  # base_frame.Convention; "reference": the released data's quirk (docs/reference.md §10.3)
+    )
     # The image streams written, i.e. what a stock LeRobot policy trains on (it takes every observation.images.*):
     cameras: list[str] = field(default_factory=lambda: ["head", "wrist"])  # any of schema.CAMERAS
     modalities: list[str] = field(default_factory=lambda: ["rgb", "depth", "seg"])  # any of schema.MODALITIES
@@ -94,17 +100,36 @@ class DataCfg:
 
 def data_cfg_from_hydra(cfg: DictConfig) -> DataCfg:
     """The composed root config (conf/data.yaml) -> DataCfg; unknown keys are errors."""
-    blocks = ("data_dir", "raw_dir", "dataset_dir", "subset", "teacher", "collect", "shard", "export", "validate",
-              "preview", "bench")
+    blocks = (
+        "data_dir",
+        "raw_dir",
+        "dataset_dir",
+        "subset",
+        "teacher",
+        "collect",
+        "shard",
+        "export",
+        "validate",
+        "preview",
+        "bench",
+    )
     plain = OmegaConf.to_container(cfg, resolve=True)
-    merged = OmegaConf.merge(OmegaConf.structured(DataCfg),
-                             {"robot": cfg.task.robot, **{k: plain[k] for k in blocks}})
+    merged = OmegaConf.merge(
+        OmegaConf.structured(DataCfg), {"robot": cfg.task.robot, **{k: plain[k] for k in blocks}}
+    )
     out: DataCfg = OmegaConf.to_object(merged)
     out.env = env_cfg_from_hydra(OmegaConf.create({"env": plain["env"], "task": {"robot": cfg.task.robot}}))
     # Checked before any stage writes: a zero or negative count would record empty shards marked complete.
-    check_positive({"subset.episodes": out.subset.episodes, "subset.scenes_per_object": out.subset.scenes_per_object,
-                    "subset.objects_per_category": out.subset.objects_per_category,
-                    "collect.num_envs": out.collect.num_envs, "collect.max_steps": out.collect.max_steps,
-                    "shard.count": out.shard.count, "export.width": out.export.width,
-                    "export.height": out.export.height})
+    check_positive(
+        {
+            "subset.episodes": out.subset.episodes,
+            "subset.scenes_per_object": out.subset.scenes_per_object,
+            "subset.objects_per_category": out.subset.objects_per_category,
+            "collect.num_envs": out.collect.num_envs,
+            "collect.max_steps": out.collect.max_steps,
+            "shard.count": out.shard.count,
+            "export.width": out.export.width,
+            "export.height": out.export.height,
+        }
+    )
     return out

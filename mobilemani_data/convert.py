@@ -23,9 +23,15 @@ def episode_frame_state(episode: Episode, num_hand_joints: int) -> FrameState:
     """The frame builder's inputs for frames 1 … T-1 of a recorded episode."""
     a = {k: v[FIRST_FRAME:] for k, v in episode.arrays.items() if k != "goal_pos"}
     n = len(a["state"])
-    return FrameState(a["hand_pos"], a["hand_quat"], a["base_pos"], a["base_quat"],
-                      a["joint_pos"][:, -num_hand_joints:], np.broadcast_to(episode.arrays["grasp_pos"][0], (n, 3)),
-                      np.broadcast_to(episode.arrays["goal_pos"], (n, 3)))
+    return FrameState(
+        a["hand_pos"],
+        a["hand_quat"],
+        a["base_pos"],
+        a["base_quat"],
+        a["joint_pos"][:, -num_hand_joints:],
+        np.broadcast_to(episode.arrays["grasp_pos"][0], (n, 3)),
+        np.broadcast_to(episode.arrays["goal_pos"], (n, 3)),
+    )
 
 
 def episode_vectors(episode: Episode, num_hand_joints: int, convention: Convention) -> dict[str, np.ndarray]:
@@ -38,8 +44,13 @@ def episode_vectors(episode: Episode, num_hand_joints: int, convention: Conventi
     return vectors
 
 
-def camera_images(renderer: CameraRenderer, replayer: Replayer, state: np.ndarray, cameras: dict[str, str],
-                  keys: list[str] | None = None) -> dict[str, np.ndarray]:
+def camera_images(
+    renderer: CameraRenderer,
+    replayer: Replayer,
+    state: np.ndarray,
+    cameras: dict[str, str],
+    keys: list[str] | None = None,
+) -> dict[str, np.ndarray]:
     """Render one recorded state: {feature name: (H, W, 3) uint8} for the image features `keys` (default: every
     modality of every camera). `cameras` maps the schema's camera names (head, wrist) to the robot's MuJoCo ones.
     """

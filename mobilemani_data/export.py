@@ -45,10 +45,14 @@ class ExportReport:
 
 def check_streams(cfg: ExportCfg) -> None:
     """export.cameras / export.modalities: non-empty, known, no repeats (checked before anything is written)."""
-    for key, values, valid in (("export.cameras", cfg.cameras, schema.CAMERAS),
-                               ("export.modalities", cfg.modalities, schema.MODALITIES)):
+    for key, values, valid in (
+        ("export.cameras", cfg.cameras, schema.CAMERAS),
+        ("export.modalities", cfg.modalities, schema.MODALITIES),
+    ):
         if not values or any(v not in valid for v in values) or len(set(values)) != len(values):
-            raise ValueError(f"invalid {key} {list(values)}: name one or more of {list(valid)}, without repeats")
+            raise ValueError(
+                f"invalid {key} {list(values)}: name one or more of {list(valid)}, without repeats"
+            )
 
 
 def image_keys(cfg: ExportCfg) -> list[str]:
@@ -56,23 +60,49 @@ def image_keys(cfg: ExportCfg) -> list[str]:
 
 
 def create_dataset(root: Path, robot: RobotDescription, cfg: ExportCfg) -> LeRobotDataset:
-    features = schema.features(robot.action_dim, len(robot.hand_joints), cfg.height, cfg.width,
-                               tuple(cfg.cameras), tuple(cfg.modalities))
+    features = schema.features(
+        robot.action_dim,
+        len(robot.hand_joints),
+        cfg.height,
+        cfg.width,
+        tuple(cfg.cameras),
+        tuple(cfg.modalities),
+    )
     encoder = RGBEncoderConfig(vcodec=cfg.vcodec, crf=cfg.crf, g=cfg.gop, preset=cfg.preset)
-    return LeRobotDataset.create(cfg.repo_id, fps=schema.FPS, features=features, root=root, robot_type=robot.name,
-                                 use_videos=True, video_backend="pyav", rgb_encoder=encoder,
-                                 streaming_encoding=cfg.streaming_encoding)
+    return LeRobotDataset.create(
+        cfg.repo_id,
+        fps=schema.FPS,
+        features=features,
+        root=root,
+        robot_type=robot.name,
+        use_videos=True,
+        video_backend="pyav",
+        rgb_encoder=encoder,
+        streaming_encoding=cfg.streaming_encoding,
+    )
 
 
-def add_shard(ds: LeRobotDataset, shard: Shard, robot: RobotDescription, cfg: ExportCfg, raw_dir: Path,
-              report: ExportReport) -> list[dict]:
+def add_shard(
+    ds: LeRobotDataset,
+    shard: Shard,
+    robot: RobotDescription,
+    cfg: ExportCfg,
+    raw_dir: Path,
+    report: ExportReport,
+) -> list[dict]:
     """Render and save every episode of a shard; returns their metadata lines."""
     replayer = Replayer(shard)
     cameras = {name: mj_camera for name, mj_camera in robot_cameras(robot).items() if name in cfg.cameras}
     keys = image_keys(cfg)
-    renderer = CameraRenderer(replayer.model, CameraRenderCfg(width=cfg.width, height=cfg.height,
-                                                              cameras=tuple(cameras.values()),
-                                                              segmentation="seg" in cfg.modalities))
+    renderer = CameraRenderer(
+        replayer.model,
+        CameraRenderCfg(
+            width=cfg.width,
+            height=cfg.height,
+            cameras=tuple(cameras.values()),
+            segmentation="seg" in cfg.modalities,
+        ),
+    )
     lines = []
     try:
         for k, episode in enumerate(shard.episodes):
@@ -86,11 +116,20 @@ def add_shard(ds: LeRobotDataset, shard: Shard, robot: RobotDescription, cfg: Ex
                 ds.add_frame(frame)
             ds.save_episode()
             length = episode.length - FIRST_FRAME
-            lines.append({"episode_index": report.episodes, **{key: shard.header[key] for key in schema.EPISODE_METADATA},
-                          "scene_split": shard.header["scene_split"], "instruction": shard.header["instruction"],
-                          "teacher": shard.header["teacher"], "length": length,
-                          "shard": str(shard.path.relative_to(raw_dir)), "shard_episode": k,
-                          "env_slot": episode.attrs["env_slot"], "round": episode.attrs["round"]})
+            lines.append(
+                {
+                    "episode_index": report.episodes,
+                    **{key: shard.header[key] for key in schema.EPISODE_METADATA},
+                    "scene_split": shard.header["scene_split"],
+                    "instruction": shard.header["instruction"],
+                    "teacher": shard.header["teacher"],
+                    "length": length,
+                    "shard": str(shard.path.relative_to(raw_dir)),
+                    "shard_episode": k,
+                    "env_slot": episode.attrs["env_slot"],
+                    "round": episode.attrs["round"],
+                }
+            )
             report.episodes += 1
             report.frames += length
     finally:
@@ -106,7 +145,9 @@ def export(cfg: DataCfg) -> ExportReport:
         raise FileExistsError(f"{root} exists; pass export.overwrite=true to replace it")
     paths = shard_paths(raw_dir, robot.name)
     if not paths:
-        raise FileNotFoundError(f"no shards under {raw_dir / robot.name} (run python -m mobilemani_data.collect)")
+        raise FileNotFoundError(
+            f"no shards under {raw_dir / robot.name} (run python -m mobilemani_data.collect)"
+        )
     tmp = root.with_name(root.name + PARTIAL)
     shutil.rmtree(tmp, ignore_errors=True)
     report = ExportReport(root)
@@ -128,11 +169,22 @@ def export(cfg: DataCfg) -> ExportReport:
         raise ShardError(f"no readable shard under {raw_dir / robot.name}: {report.skipped}")
     (tmp / schema.EPISODES_FILE).write_text("".join(json.dumps(line) + "\n" for line in lines))
     report.total_s = time.perf_counter() - start
-    (tmp / schema.EXPORT_REPORT_FILE).write_text(json.dumps(
-        {"episodes": report.episodes, "frames": report.frames, "skipped": report.skipped,
-         "width": cfg.export.width, "height": cfg.export.height, "vcodec": cfg.export.vcodec,
-         "cameras": list(cfg.export.cameras), "modalities": list(cfg.export.modalities),
-         "action_convention": cfg.export.action_convention}, indent=2))
+    (tmp / schema.EXPORT_REPORT_FILE).write_text(
+        json.dumps(
+            {
+                "episodes": report.episodes,
+                "frames": report.frames,
+                "skipped": report.skipped,
+                "width": cfg.export.width,
+                "height": cfg.export.height,
+                "vcodec": cfg.export.vcodec,
+                "cameras": list(cfg.export.cameras),
+                "modalities": list(cfg.export.modalities),
+                "action_convention": cfg.export.action_convention,
+            },
+            indent=2,
+        )
+    )
     if root.exists():
         shutil.rmtree(root)
     tmp.rename(root)
@@ -142,8 +194,10 @@ def export(cfg: DataCfg) -> ExportReport:
 @hydra.main(config_path="../conf", config_name="data", version_base="1.3")
 def main(cfg: DictConfig) -> None:
     report = export(data_cfg_from_hydra(cfg))
-    print(f"{report.root}: {report.episodes} episodes, {report.frames} frames in {report.total_s:.1f} s "
-          f"({report.frames / max(report.total_s, 1e-9):.1f} frames/s); {len(report.skipped)} shards skipped")
+    print(
+        f"{report.root}: {report.episodes} episodes, {report.frames} frames in {report.total_s:.1f} s "
+        f"({report.frames / max(report.total_s, 1e-9):.1f} frames/s); {len(report.skipped)} shards skipped"
+    )
     if report.skipped:
         sys.exit(1)
 

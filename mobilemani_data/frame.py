@@ -34,8 +34,16 @@ class FrameState:
 
 def world_state(s: FrameState) -> np.ndarray:
     """`world.state` rows: hand pos, hand RPY, base pos, base RPY, hand joints (all world frame)."""
-    return np.concatenate((s.hand_pos, euler_from_quat(s.hand_quat), s.base_pos, euler_from_quat(s.base_quat),
-                           s.hand_joint_pos), axis=-1)
+    return np.concatenate(
+        (
+            s.hand_pos,
+            euler_from_quat(s.hand_quat),
+            s.base_pos,
+            euler_from_quat(s.base_quat),
+            s.hand_joint_pos,
+        ),
+        axis=-1,
+    )
 
 
 def rotation_6d(quat: np.ndarray) -> np.ndarray:
@@ -83,8 +91,9 @@ def modality_image(frame: CameraFrame, modality: str) -> np.ndarray:
     return np.repeat(channel[..., None], 3, axis=2)
 
 
-def frame_images(rendered: Mapping[str, CameraFrame], cameras: Mapping[str, str],
-                 keys: Iterable[str] | None = None) -> dict[str, np.ndarray]:
+def frame_images(
+    rendered: Mapping[str, CameraFrame], cameras: Mapping[str, str], keys: Iterable[str] | None = None
+) -> dict[str, np.ndarray]:
     """Rendered MuJoCo cameras -> {feature name: (H, W, 3) uint8}. `cameras` maps the schema's camera names (head,
     wrist) to the robot's MuJoCo camera names; `keys` limits the output to those feature names (default: every
     modality of every camera in `cameras`)."""

@@ -43,8 +43,9 @@ def _episode(snaps: list[dict], slot: int, round_: int) -> Episode:
     return Episode(arrays, {"env_slot": slot, "round": round_, "start_step": snaps[0]["step"]})
 
 
-def collect_successes(env: MobileManiEnv, policy: Policy, episodes: int, max_steps: int, seed: int,
-                      action_noise: float = 0.0) -> Rollouts:
+def collect_successes(
+    env: MobileManiEnv, policy: Policy, episodes: int, max_steps: int, seed: int, action_noise: float = 0.0
+) -> Rollouts:
     """Step all envs until the first `episodes` successes in (round, slot) order are known, or `max_steps` ran.
 
     With `action_noise` > 0 the envs execute the teacher's action plus Gaussian noise of that standard deviation

@@ -23,7 +23,9 @@ class ReplayErrors:
     """Largest absolute differences between replayed and recorded quantities."""
 
     kinematics: float  # world poses recomputed from each recorded state vs the recorded ones
-    dynamics: float  # state reached by stepping from each recorded state with the next control vs the next state
+    dynamics: (
+        float  # state reached by stepping from each recorded state with the next control vs the next state
+    )
 
     def worst(self) -> float:
         return max(self.kinematics, self.dynamics)
@@ -31,12 +33,18 @@ class ReplayErrors:
 
 class Replayer:
     def __init__(self, shard: Shard) -> None:
-        self.env_cfg: EnvCfg = OmegaConf.to_object(OmegaConf.merge(OmegaConf.structured(EnvCfg),
-                                                                   OmegaConf.create(shard.header["env_cfg"])))
+        self.env_cfg: EnvCfg = OmegaConf.to_object(
+            OmegaConf.merge(OmegaConf.structured(EnvCfg), OmegaConf.create(shard.header["env_cfg"]))
+        )
         task = self.env_cfg.task
         placement = get_placement(task.scene) if task.scene else None
-        self.model, self.index = build_scene(get_robot(task.robot), get_object(task.object), self.env_cfg.physics,
-                                             self.env_cfg.reset, placement)
+        self.model, self.index = build_scene(
+            get_robot(task.robot),
+            get_object(task.object),
+            self.env_cfg.physics,
+            self.env_cfg.reset,
+            placement,
+        )
         self.data = mujoco.MjData(self.model)
         if mujoco.mj_stateSize(self.model, STATE_SPEC) != shard.episodes[0].arrays["state"].shape[1]:
             raise ValueError(f"{shard.path}: recorded state size does not match the rebuilt model")
@@ -52,9 +60,14 @@ class Replayer:
         kinematics = 0.0
         for t, state in enumerate(a["state"]):
             d = self.set_state(state)
-            replayed = {"hand_pos": d.xpos[idx.hand_body], "hand_quat": d.xquat[idx.hand_body],
-                        "base_pos": d.xpos[idx.base_body], "base_quat": d.xquat[idx.base_body],
-                        "grasp_pos": d.site_xpos[idx.grasp_site], "palm_pos": d.site_xpos[idx.palm_site]}
+            replayed = {
+                "hand_pos": d.xpos[idx.hand_body],
+                "hand_quat": d.xquat[idx.hand_body],
+                "base_pos": d.xpos[idx.base_body],
+                "base_quat": d.xquat[idx.base_body],
+                "grasp_pos": d.site_xpos[idx.grasp_site],
+                "palm_pos": d.site_xpos[idx.palm_site],
+            }
             kinematics = max(kinematics, *(float(np.abs(v - a[k][t]).max()) for k, v in replayed.items()))
         return ReplayErrors(kinematics, self._dynamics(a["state"]))
 
@@ -75,6 +88,9 @@ class Replayer:
 
 def _component(model: mujoco.MjModel, component: mujoco.mjtState) -> tuple[int, int]:
     """[start, stop) of one component inside an mjSTATE_INTEGRATION vector (components are in bit order)."""
-    start = sum(mujoco.mj_stateSize(model, 1 << b) for b in range(int(component).bit_length() - 1)
-                if (1 << b) & int(STATE_SPEC))
+    start = sum(
+        mujoco.mj_stateSize(model, 1 << b)
+        for b in range(int(component).bit_length() - 1)
+        if (1 << b) & int(STATE_SPEC)
+    )
     return start, start + mujoco.mj_stateSize(model, component)

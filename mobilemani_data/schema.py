@@ -29,7 +29,9 @@ WRIST_POSE_DIM = 9  # observation.state[:9]: the wrist pose in the base frame (t
 # the base's heading in the world, which none of its inputs carries (the paper's VLA predicts base-frame actions).
 ACTION = "action"
 # Extras, not policy inputs by default:
-WORLD_STATE = "world.state"  # world frame: hand pos (3), hand RPY (3), base pos (3), base RPY (3), hand joints (nh)
+WORLD_STATE = (
+    "world.state"  # world frame: hand pos (3), hand RPY (3), base pos (3), base RPY (3), hand joints (nh)
+)
 WORLD_ACTION = "world.action"  # the env's normalised world-frame action as applied, clamped to [-1, 1]
 # The episode's initial (reset-state) grasp point and its goal point: fixed world points, expressed in each frame's
 # current base frame (the base moves during the episode); the paper's "pseudo-observations" for the VLA ablation.
@@ -55,18 +57,26 @@ def world_state_dim(num_hand_joints: int) -> int:
     return 12 + num_hand_joints
 
 
-def features(action_dim: int, num_hand_joints: int, height: int, width: int,
-             cameras: tuple[str, ...] = CAMERAS, modalities: tuple[str, ...] = MODALITIES) -> dict[str, dict]:
+def features(
+    action_dim: int,
+    num_hand_joints: int,
+    height: int,
+    width: int,
+    cameras: tuple[str, ...] = CAMERAS,
+    modalities: tuple[str, ...] = MODALITIES,
+) -> dict[str, dict]:
     """The `features` argument of `LeRobotDataset.create` for one robot."""
     image = {"dtype": "video", "shape": (height, width, 3), "names": ["height", "width", "channels"]}
     vector = lambda n: {"dtype": "float32", "shape": (n,), "names": None}  # noqa: E731
     spec = {image_key(c, m): dict(image) for c in cameras for m in modalities}
-    spec.update({
-        STATE: vector(state_dim(num_hand_joints)),
-        ACTION: vector(action_dim),
-        WORLD_STATE: vector(world_state_dim(num_hand_joints)),
-        WORLD_ACTION: vector(action_dim),
-        GRASP_POINT_BASE: vector(3),
-        GOAL_POINT_BASE: vector(3),
-    })
+    spec.update(
+        {
+            STATE: vector(state_dim(num_hand_joints)),
+            ACTION: vector(action_dim),
+            WORLD_STATE: vector(world_state_dim(num_hand_joints)),
+            WORLD_ACTION: vector(action_dim),
+            GRASP_POINT_BASE: vector(3),
+            GOAL_POINT_BASE: vector(3),
+        }
+    )
     return spec

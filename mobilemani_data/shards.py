@@ -28,12 +28,43 @@ import numpy as np
 FORMAT_VERSION = 1
 SUFFIX = ".h5"
 PARTIAL_SUFFIX = ".partial"
-FRAME_KEYS = ("hand_pos", "hand_quat", "base_pos", "base_quat", "palm_pos", "palm_quat", "palm_linvel",
-              "palm_angvel", "grasp_pos", "grasp_quat", "grasp_linvel", "joint_pos", "joint_vel")
+FRAME_KEYS = (
+    "hand_pos",
+    "hand_quat",
+    "base_pos",
+    "base_quat",
+    "palm_pos",
+    "palm_quat",
+    "palm_linvel",
+    "palm_angvel",
+    "grasp_pos",
+    "grasp_quat",
+    "grasp_linvel",
+    "joint_pos",
+    "joint_vel",
+)
 TIME_KEYS = ("state", "action", "success") + FRAME_KEYS
-HEADER_KEYS = ("format_version", "robot", "object_id", "category", "skill", "scene", "split", "scene_split",
-               "instruction", "teacher", "seed", "fps", "requested", "collected", "attempts", "steps", "capped",
-               "env_cfg", "complete")
+HEADER_KEYS = (
+    "format_version",
+    "robot",
+    "object_id",
+    "category",
+    "skill",
+    "scene",
+    "split",
+    "scene_split",
+    "instruction",
+    "teacher",
+    "seed",
+    "fps",
+    "requested",
+    "collected",
+    "attempts",
+    "steps",
+    "capped",
+    "env_cfg",
+    "complete",
+)
 
 
 class ShardError(RuntimeError):
@@ -62,14 +93,22 @@ def write_shard(path: Path, header: dict, episodes: list[Episode], compression: 
     path.parent.mkdir(parents=True, exist_ok=True)
     tmp = path.with_name(path.name + PARTIAL_SUFFIX)
     with h5py.File(tmp, "w") as f:
-        f.attrs.update({"format_version": FORMAT_VERSION, **header, "collected": len(episodes), "complete": False})
+        f.attrs.update(
+            {"format_version": FORMAT_VERSION, **header, "collected": len(episodes), "complete": False}
+        )
         for k, ep in enumerate(episodes):
             group = f.create_group(f"episode_{k:03d}")
             group.attrs.update({**ep.attrs, "length": ep.length})
             for name, values in ep.arrays.items():
                 # fletcher32 checksums make a flipped byte a read error instead of silently wrong data
-                group.create_dataset(name, data=values, compression="gzip", compression_opts=compression,
-                                     shuffle=True, fletcher32=True)
+                group.create_dataset(
+                    name,
+                    data=values,
+                    compression="gzip",
+                    compression_opts=compression,
+                    shuffle=True,
+                    fletcher32=True,
+                )
         f.attrs["complete"] = True
     fd = os.open(tmp, os.O_RDONLY)
     try:
@@ -111,7 +150,12 @@ def read_shard(path: Path) -> Shard:
         return _read(path)
     except ShardError:
         raise
-    except (OSError, KeyError, ValueError, TypeError) as err:  # h5py: truncated files, bad checksums, no such key
+    except (
+        OSError,
+        KeyError,
+        ValueError,
+        TypeError,
+    ) as err:  # h5py: truncated files, bad checksums, no such key
         raise ShardError(f"{path}: unreadable ({type(err).__name__}: {err})") from err
 
 

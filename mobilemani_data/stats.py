@@ -25,8 +25,12 @@ STATS_FILE = "meta/mobilemani_stats.json"
 
 def _row(lengths: list[int]) -> dict:
     frames = sum(lengths)
-    return {"episodes": len(lengths), "frames": frames, "mean_length": round(frames / len(lengths), 1),
-            "mean_seconds": round(frames / len(lengths) / schema.FPS, 2)}
+    return {
+        "episodes": len(lengths),
+        "frames": frames,
+        "mean_length": round(frames / len(lengths), 1),
+        "mean_seconds": round(frames / len(lengths) / schema.FPS, 2),
+    }
 
 
 def dataset_stats(episodes: list[dict]) -> dict:
@@ -44,12 +48,16 @@ def dataset_stats(episodes: list[dict]) -> dict:
 
 
 def markdown(table: dict) -> str:
-    lines = ["| group | value | episodes | frames | mean length (frames) | mean length (s) |",
-             "|---|---|---:|---:|---:|---:|"]
+    lines = [
+        "| group | value | episodes | frames | mean length (frames) | mean length (s) |",
+        "|---|---|---:|---:|---:|---:|",
+    ]
     for key in (*GROUPS, "total"):
         for name, row in table[key].items():
-            lines.append(f"| {key} | {name} | {row['episodes']} | {row['frames']} | {row['mean_length']} | "
-                         f"{row['mean_seconds']} |")
+            lines.append(
+                f"| {key} | {name} | {row['episodes']} | {row['frames']} | {row['mean_length']} | "
+                f"{row['mean_seconds']} |"
+            )
     lines.append(f"\n{table['objects']} objects, {table['scenes']} scenes, {table['tasks']} instructions")
     return "\n".join(lines)
 

@@ -51,9 +51,11 @@ def _ppo_teacher(cfg: TeacherCfg, combo: Combination, num_envs: int, seed: int) 
     checkpoint = find_teacher_checkpoint(cfg.runs_dir, combo.robot, combo.object_id, combo.skill)
     run_dir = checkpoint.parent
     if (rate := trained_success(run_dir)) is not None and rate < cfg.min_train_success:
-        raise TeacherUnavailable(f"{run_dir} trained to success {rate:.2f} < teacher.min_train_success="
-                                 f"{cfg.min_train_success} (lower it, e.g. teacher.min_train_success=0, to collect with "
-                                 "it anyway)")
+        raise TeacherUnavailable(
+            f"{run_dir} trained to success {rate:.2f} < teacher.min_train_success="
+            f"{cfg.min_train_success} (lower it, e.g. teacher.min_train_success=0, to collect with "
+            "it anyway)"
+        )
     # The teacher acts in the env it was trained in (physics, action scales), placed in the recording scene, on
     # this combination's object (a category run's config names the category).
     run_cfg = run_config(checkpoint)

@@ -41,7 +41,7 @@ def read_shards(raw_dir: Path, robot: str) -> tuple[list[Shard], list[str]]:
 def check_replay(shards: list[Shard], cfg: ValidateCfg) -> tuple[list[str], float]:
     """Replay the first episode of as many shards as `replay_episodes` asks for; returns problems, worst error."""
     problems, worst = [], 0.0
-    for shard in shards[:cfg.replay_episodes]:
+    for shard in shards[: cfg.replay_episodes]:
         errors = Replayer(shard).check(shard.episodes[0])
         worst = max(worst, errors.worst())
         if errors.worst() > cfg.tolerance:
@@ -49,8 +49,14 @@ def check_replay(shards: list[Shard], cfg: ValidateCfg) -> tuple[list[str], floa
     return problems, worst
 
 
-def check_dataset(root: Path, repo_id: str, raw_dir: Path, robot_name: str, shards: list[Shard], cfg: ValidateCfg,
-                  ) -> list[str]:
+def check_dataset(
+    root: Path,
+    repo_id: str,
+    raw_dir: Path,
+    robot_name: str,
+    shards: list[Shard],
+    cfg: ValidateCfg,
+) -> list[str]:
     robot = get_robot(robot_name)
     report = read_export_report(root)
     meta = LeRobotDatasetMetadata(repo_id, root=root)
@@ -59,13 +65,21 @@ def check_dataset(root: Path, repo_id: str, raw_dir: Path, robot_name: str, shar
     except FileNotFoundError as err:
         return [str(err)]
     problems = []
-    expected = schema.features(robot.action_dim, len(robot.hand_joints), report["height"], report["width"],
-                               tuple(report["cameras"]), tuple(report["modalities"]))
+    expected = schema.features(
+        robot.action_dim,
+        len(robot.hand_joints),
+        report["height"],
+        report["width"],
+        tuple(report["cameras"]),
+        tuple(report["modalities"]),
+    )
     for name, spec in expected.items():
         found = meta.features.get(name)
         if found is None or tuple(found["shape"]) != spec["shape"] or found["dtype"] != spec["dtype"]:
-            problems.append(f"{root}: feature {name} is {found and (found['dtype'], found['shape'])}, "
-                            f"schema says {(spec['dtype'], spec['shape'])}")
+            problems.append(
+                f"{root}: feature {name} is {found and (found['dtype'], found['shape'])}, "
+                f"schema says {(spec['dtype'], spec['shape'])}"
+            )
     episodes = read_episodes(root)
     if len(episodes) != meta.total_episodes:
         problems.append(f"{root}: {len(episodes)} metadata lines for {meta.total_episodes} episodes")
@@ -78,7 +92,9 @@ def check_dataset(root: Path, repo_id: str, raw_dir: Path, robot_name: str, shar
         if missing:
             problems.append(f"{root}: episode {i} lacks metadata {missing}")
         if lengths.get(i) != line["length"]:
-            problems.append(f"{root}: episode {i} has {lengths.get(i)} frames, metadata says {line['length']}")
+            problems.append(
+                f"{root}: episode {i} has {lengths.get(i)} frames, metadata says {line['length']}"
+            )
         if shard is not None and shard.episodes[line["shard_episode"]].length - FIRST_FRAME != line["length"]:
             problems.append(f"{root}: episode {i} length differs from its shard {line['shard']}")
     if meta.total_frames != sum(line["length"] for line in episodes):
@@ -106,7 +122,9 @@ def validate(cfg: DataCfg) -> list[str]:
     elif shards:
         print(f"no dataset at {root}; checked the shards only")
     else:
-        problems.append(f"nothing to validate: no shards under {raw_dir / cfg.robot} and no dataset at {root}")
+        problems.append(
+            f"nothing to validate: no shards under {raw_dir / cfg.robot} and no dataset at {root}"
+        )
     return problems
 
 

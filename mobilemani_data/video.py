@@ -36,7 +36,9 @@ class _TorchcodecFallback(logging.Filter):
 def quiet_video_libraries() -> None:
     os.environ.setdefault("SVT_LOG", "1")
     av.logging.set_level(av.logging.ERROR)
-    av.logging.set_libav_level(av.logging.ERROR)  # lerobot's encoders hand logging back to FFmpeg's own callback
+    av.logging.set_libav_level(
+        av.logging.ERROR
+    )  # lerobot's encoders hand logging back to FFmpeg's own callback
     logger = logging.getLogger("lerobot.utils.import_utils")
     if not any(isinstance(f, _TorchcodecFallback) for f in logger.filters):
         logger.addFilter(_TorchcodecFallback())

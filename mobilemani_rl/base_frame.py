@@ -23,13 +23,17 @@ def points_to_base(points: np.ndarray, base_pos: np.ndarray, base_quat: np.ndarr
     return quat_apply(quat_conj(base_quat), points - base_pos)
 
 
-def pose_to_base(pos: np.ndarray, quat: np.ndarray, base_pos: np.ndarray, base_quat: np.ndarray) -> np.ndarray:
+def pose_to_base(
+    pos: np.ndarray, quat: np.ndarray, base_pos: np.ndarray, base_quat: np.ndarray
+) -> np.ndarray:
     """World pose -> base-frame (position, RPY), (n, 6)."""
     local = quat_mul(quat_conj(base_quat), quat)
     return np.concatenate((points_to_base(pos, base_pos, base_quat), euler_from_quat(local)), axis=-1)
 
 
-def action_to_base(action: np.ndarray, base_quat: np.ndarray, convention: Convention = "conjugate") -> np.ndarray:
+def action_to_base(
+    action: np.ndarray, base_quat: np.ndarray, convention: Convention = "conjugate"
+) -> np.ndarray:
     inverse = quat_conj(base_quat)
     out = np.array(action, dtype=np.float64, copy=True)
     out[..., 0:3] = quat_apply(inverse, action[..., 0:3])
@@ -42,7 +46,9 @@ def action_to_base(action: np.ndarray, base_quat: np.ndarray, convention: Conven
     return out
 
 
-def action_to_world(action: np.ndarray, base_quat: np.ndarray, convention: Convention = "conjugate") -> np.ndarray:
+def action_to_world(
+    action: np.ndarray, base_quat: np.ndarray, convention: Convention = "conjugate"
+) -> np.ndarray:
     """Inverse of `action_to_base` (the env's VLA mode decodes base-frame actions this way)."""
     out = np.array(action, dtype=np.float64, copy=True)
     out[..., 0:3] = quat_apply(base_quat, action[..., 0:3])

@@ -25,8 +25,9 @@ from mobilemani_rl.envs.config import EnvCfg, TaskCfg
 from mobilemani_rl.envs.mobilemani_env import MobileManiEnv
 
 
-def interleaved_rates(steppers: dict[str, tuple[Callable[[], None], int]], n: int, seconds: float,
-                      trials: int = 6) -> dict[str, float]:
+def interleaved_rates(
+    steppers: dict[str, tuple[Callable[[], None], int]], n: int, seconds: float, trials: int = 6
+) -> dict[str, float]:
     """Best env-steps/s of each stepper (a call and the control steps it advances); trials alternate between
     steppers so that background load drifts affect them alike."""
     for step, _ in steppers.values():
@@ -43,8 +44,11 @@ def interleaved_rates(steppers: dict[str, tuple[Callable[[], None], int]], n: in
     return best
 
 
-def raw_physics_replay(env: MobileManiEnv, rng: np.random.Generator, segment: int = 32,
-                       ) -> tuple[Callable[[], None], int]:
+def raw_physics_replay(
+    env: MobileManiEnv,
+    rng: np.random.Generator,
+    segment: int = 32,
+) -> tuple[Callable[[], None], int]:
     """The raw physics limit for the env's own workload: record the joint targets the env sends while it steps
     `segment` control steps of random actions, then replay them in a fresh `mujoco.batch.Batch` of the same
     model, size and threads with one `Batch.rollout` call (no Python between steps), from the same start state.
@@ -85,14 +89,21 @@ def bench_task(robot: str, num_envs: int, seconds: float, obj: str = "test/box",
     rates = interleaved_rates({"env": (env_step, 1), "raw": raw}, num_envs, seconds)
     env_rate, raw_rate = rates["env"], rates["raw"]
     return {
-        "robot": robot, "num_envs": num_envs, "substeps": substeps, "timestep": env.model.opt.timestep,
-        "env_steps_per_s": round(env_rate), "raw_steps_per_s": round(raw_rate),
-        "raw_physics_steps_per_s": round(raw_rate * substeps), "env_over_raw": round(env_rate / raw_rate, 3),
+        "robot": robot,
+        "num_envs": num_envs,
+        "substeps": substeps,
+        "timestep": env.model.opt.timestep,
+        "env_steps_per_s": round(env_rate),
+        "raw_steps_per_s": round(raw_rate),
+        "raw_physics_steps_per_s": round(raw_rate * substeps),
+        "env_over_raw": round(env_rate / raw_rate, 3),
     }
 
 
 def main(argv: list[str] | None = None) -> list[dict]:
-    parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    parser = argparse.ArgumentParser(
+        description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter
+    )
     parser.add_argument("--robots", nargs="+", default=["g1", "xhand"])
     parser.add_argument("--envs", nargs="+", type=int, default=[64, 256, 1024])
     parser.add_argument("--seconds", type=float, default=6.0, help="timing budget per (robot, envs) pair")
@@ -100,8 +111,10 @@ def main(argv: list[str] | None = None) -> list[dict]:
     results = [bench_task(r, n, args.seconds) for r in args.robots for n in args.envs]
     print(f"{'robot':6} {'envs':>5} {'env steps/s':>12} {'raw steps/s':>12} {'env/raw':>8}")
     for r in results:
-        print(f"{r['robot']:6} {r['num_envs']:5d} {r['env_steps_per_s']:12d} {r['raw_steps_per_s']:12d} "
-              f"{r['env_over_raw']:8.2f}")
+        print(
+            f"{r['robot']:6} {r['num_envs']:5d} {r['env_steps_per_s']:12d} {r['raw_steps_per_s']:12d} "
+            f"{r['env_over_raw']:8.2f}"
+        )
     print(json.dumps({"benchmark": "sim", "results": results}, indent=2))
     return results
 

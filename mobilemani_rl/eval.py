@@ -46,12 +46,18 @@ def evaluate(checkpoint: Path, episodes: int, seed: int, video_episodes: int = 0
     env_cfg = env_cfg_from_hydra(run_cfg)
     env_cfg.num_envs = episodes
     trained = set(policy_objects(env_cfg.task.object, run_cfg.objects_per_policy) or [env_cfg.task.object])
-    todo = [(split, object_id) for split, ids in evaluation_objects(env_cfg.task.object).items() for object_id in ids]
+    todo = [
+        (split, object_id)
+        for split, ids in evaluation_objects(env_cfg.task.object).items()
+        for object_id in ids
+    ]
     progress = Progress(len(todo), "objects")  # a category is ~40 objects of `episodes` episodes each
     per_object: dict[str, dict] = {}
     actor = None
     for split, object_id in todo:
-        env = MobileManiEnv(dataclasses.replace(env_cfg, task=dataclasses.replace(env_cfg.task, object=object_id)))
+        env = MobileManiEnv(
+            dataclasses.replace(env_cfg, task=dataclasses.replace(env_cfg.task, object=object_id))
+        )
         if actor is None:
             _, actor = load_teacher(checkpoint, env=env, cfg=run_cfg)
         recorder = HeadCameraRecorder(env, video_episodes) if video_episodes else None
@@ -59,15 +65,26 @@ def evaluate(checkpoint: Path, episodes: int, seed: int, video_episodes: int = 0
         per_object[object_id] = {"split": split, "trained": object_id in trained, **stats.summary()}
         if recorder is not None:
             per_object[object_id]["videos"] = recorder.write(
-                checkpoint.parent / f"eval_videos_{checkpoint.stem}" / object_id.replace("/", "_"))
-        print(f"{object_id} ({split}{', trained' if object_id in trained else ''}): success "
-              f"{per_object[object_id]['success_rate']:.3f} | {progress.advance()}", flush=True)
-    by_split = {split: float(np.mean([r["success_rate"] for r in per_object.values() if r["split"] == split]))
-                for split in {r["split"] for r in per_object.values()}}
-    result = {"checkpoint": str(checkpoint), "seed": seed, "task": OmegaConf.to_container(run_cfg.task),
-              "episodes_per_object": episodes,
-              "success_rate": float(np.mean([r["success_rate"] for r in per_object.values() if r["trained"]])),
-              "success_by_split": by_split, "objects": per_object}
+                checkpoint.parent / f"eval_videos_{checkpoint.stem}" / object_id.replace("/", "_")
+            )
+        print(
+            f"{object_id} ({split}{', trained' if object_id in trained else ''}): success "
+            f"{per_object[object_id]['success_rate']:.3f} | {progress.advance()}",
+            flush=True,
+        )
+    by_split = {
+        split: float(np.mean([r["success_rate"] for r in per_object.values() if r["split"] == split]))
+        for split in {r["split"] for r in per_object.values()}
+    }
+    result = {
+        "checkpoint": str(checkpoint),
+        "seed": seed,
+        "task": OmegaConf.to_container(run_cfg.task),
+        "episodes_per_object": episodes,
+        "success_rate": float(np.mean([r["success_rate"] for r in per_object.values() if r["trained"]])),
+        "success_by_split": by_split,
+        "objects": per_object,
+    }
     write_json_atomic(checkpoint.parent / f"eval_{checkpoint.stem}_{seed}.json", result)
     return result
 

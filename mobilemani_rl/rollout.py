@@ -25,13 +25,16 @@ class EpisodeStats:
             "success_rate": float(self.success.mean()),
             "mean_length": float(self.length.mean()),
             "reward_terms": {k: float(v.mean()) for k, v in self.reward_terms.items()},
-            "mean_return": float(sum(v for v in self.reward_terms.values()).mean()) if self.reward_terms else 0.0,
+            "mean_return": float(sum(v for v in self.reward_terms.values()).mean())
+            if self.reward_terms
+            else 0.0,
             "nan_action_entries": int(self.nan_actions.sum()),
         }
 
 
-def run_first_episodes(env: MobileManiEnv, policy: Policy, seed: int,
-                       on_step: Callable[[StepResult], None] | None = None) -> EpisodeStats:
+def run_first_episodes(
+    env: MobileManiEnv, policy: Policy, seed: int, on_step: Callable[[StepResult], None] | None = None
+) -> EpisodeStats:
     """Reset with `seed`, step until every env has finished its first episode, and collect its statistics.
 
     An episode succeeds if its grasp point came within the success threshold of the goal at any step, as the
@@ -62,6 +65,7 @@ def run_first_episodes(env: MobileManiEnv, policy: Policy, seed: int,
     return EpisodeStats(success, length, nan_actions, sums)
 
 
-def first_episode_success(env: MobileManiEnv, policy: Policy, seed: int,
-                          on_step: Callable[[StepResult], None] | None = None) -> np.ndarray:
+def first_episode_success(
+    env: MobileManiEnv, policy: Policy, seed: int, on_step: Callable[[StepResult], None] | None = None
+) -> np.ndarray:
     return run_first_episodes(env, policy, seed, on_step).success

@@ -87,14 +87,42 @@ def quat_from_matrix(mat: Array) -> Array:
     m00, m11, m22 = m[..., 0, 0], m[..., 1, 1], m[..., 2, 2]
     candidates = np.stack(
         (
-            np.stack((1 + m00 + m11 + m22, m[..., 2, 1] - m[..., 1, 2], m[..., 0, 2] - m[..., 2, 0],
-                      m[..., 1, 0] - m[..., 0, 1]), axis=-1),
-            np.stack((m[..., 2, 1] - m[..., 1, 2], 1 + m00 - m11 - m22, m[..., 0, 1] + m[..., 1, 0],
-                      m[..., 0, 2] + m[..., 2, 0]), axis=-1),
-            np.stack((m[..., 0, 2] - m[..., 2, 0], m[..., 0, 1] + m[..., 1, 0], 1 - m00 + m11 - m22,
-                      m[..., 1, 2] + m[..., 2, 1]), axis=-1),
-            np.stack((m[..., 1, 0] - m[..., 0, 1], m[..., 0, 2] + m[..., 2, 0], m[..., 1, 2] + m[..., 2, 1],
-                      1 - m00 - m11 + m22), axis=-1),
+            np.stack(
+                (
+                    1 + m00 + m11 + m22,
+                    m[..., 2, 1] - m[..., 1, 2],
+                    m[..., 0, 2] - m[..., 2, 0],
+                    m[..., 1, 0] - m[..., 0, 1],
+                ),
+                axis=-1,
+            ),
+            np.stack(
+                (
+                    m[..., 2, 1] - m[..., 1, 2],
+                    1 + m00 - m11 - m22,
+                    m[..., 0, 1] + m[..., 1, 0],
+                    m[..., 0, 2] + m[..., 2, 0],
+                ),
+                axis=-1,
+            ),
+            np.stack(
+                (
+                    m[..., 0, 2] - m[..., 2, 0],
+                    m[..., 0, 1] + m[..., 1, 0],
+                    1 - m00 + m11 - m22,
+                    m[..., 1, 2] + m[..., 2, 1],
+                ),
+                axis=-1,
+            ),
+            np.stack(
+                (
+                    m[..., 1, 0] - m[..., 0, 1],
+                    m[..., 0, 2] + m[..., 2, 0],
+                    m[..., 1, 2] + m[..., 2, 1],
+                    1 - m00 - m11 + m22,
+                ),
+                axis=-1,
+            ),
         ),
         axis=-2,
     )
@@ -125,7 +153,10 @@ def quat_between_vectors(a: Array, b: Array) -> Array:
     antiparallel = q[..., 0] < 1e-6 * scale[..., 0]
     if antiparallel.any():  # rare: any axis orthogonal to a will do
         a_anti = a[antiparallel]
-        helper = np.where(np.abs(a_anti[:, :1]) < 0.9 * vector_norm(a_anti, keepdims=True),
-                          np.array([1.0, 0.0, 0.0]), np.array([0.0, 1.0, 0.0]))
+        helper = np.where(
+            np.abs(a_anti[:, :1]) < 0.9 * vector_norm(a_anti, keepdims=True),
+            np.array([1.0, 0.0, 0.0]),
+            np.array([0.0, 1.0, 0.0]),
+        )
         q[antiparallel] = np.concatenate((np.zeros((len(a_anti), 1)), cross(a_anti, helper)), axis=-1)
     return q / vector_norm(q, keepdims=True)

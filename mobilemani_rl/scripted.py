@@ -49,7 +49,9 @@ class ScriptedPolicyCfg:
     rot_gain: float = 4.0
     pregrasp_offset: float = 0.08  # m in front of the grasp point along the approach direction
     pick_pregrasp_offset: float = 0.15  # above a rigid object's centre of mass: clears tall objects
-    pick_finger_yaw: float | None = None  # rad left of the robot's heading that a top-down pick's fingers point
+    pick_finger_yaw: float | None = (
+        None  # rad left of the robot's heading that a top-down pick's fingers point
+    )
     pick_grip_shift: float = 0.0  # grip_shift of a top-down pick
     # A top-down pick descends at most this action (x 2.5 cm per step) while the base slides faster than
     # base_moving_speed (m/s): the IK makes up for the arm's descent by moving the base forward, which lags.
@@ -57,31 +59,58 @@ class ScriptedPolicyCfg:
     base_moving_speed: float = 0.05
     pregrasp_tolerance: float = 0.015
     pregrasp_alignment: float = 0.985  # cosine between palm and approach directions needed to go in (~10°)
-    grasp_depth: float = 0.0  # m past the grasp point (along the approach direction) where the palm point stops
+    grasp_depth: float = (
+        0.0  # m past the grasp point (along the approach direction) where the palm point stops
+    )
     grip_shift: float = 0.0  # m along the hand frame's +x (the XHand's wrist side) where the palm point stops
     lid_grip_shift: float = 0.0  # the same at a lid's edge
     grasp_tolerance: float = 0.012
-    blocked_radius: float = 0.05  # the palm stopped this close to the grasp point (touching the object): close
+    blocked_radius: float = (
+        0.05  # the palm stopped this close to the grasp point (touching the object): close
+    )
     blocked_speed: float = 0.01  # m/s
     close_steps: int = 8
     follow_handle: bool = True  # approach from the grip's free side (else along the grasp direction)
-    approach_from_below: bool = True  # else a grip facing down (under a dropped door) is approached horizontally
+    approach_from_below: bool = (
+        True  # else a grip facing down (under a dropped door) is approached horizontally
+    )
     push_lids_shut: bool = False  # close a lid by pushing it with the open hand instead of grasping its edge
-    hooked_lips: tuple[str, ...] = ()  # categories whose thin lid lip the fingertips hook from in front to open it
+    hooked_lips: tuple[
+        str, ...
+    ] = ()  # categories whose thin lid lip the fingertips hook from in front to open it
     lip_hook_shift: float = 0.0  # grip_shift of that hook: the palm point stays this far toward the wrist
     move_follow: float = 1.0  # weight of keeping the palm on the grip's free side while moving
-    move_rotation: float = 0.0  # weight of the reward's palm-rotation target while moving (it fights the grasp)
-    move_ramp_steps: int = 40  # steps over which a pull speeds up to full: a jerk on a resting link tears the grip off
-    regrasp_distance: float = 0.06  # m between palm and grip that counts as a lost grip while pulling: approach again
+    move_rotation: float = (
+        0.0  # weight of the reward's palm-rotation target while moving (it fights the grasp)
+    )
+    move_ramp_steps: int = (
+        40  # steps over which a pull speeds up to full: a jerk on a resting link tears the grip off
+    )
+    regrasp_distance: float = (
+        0.06  # m between palm and grip that counts as a lost grip while pulling: approach again
+    )
     hold_gain: float = 1.0  # weight of keeping the palm where it closed on the link while pulling
-    arc_lead: float = 0.1  # m of arc ahead of a hinged grip that the hand moves toward (0: straight at the goal)
+    arc_lead: float = (
+        0.1  # m of arc ahead of a hinged grip that the hand moves toward (0: straight at the goal)
+    )
 
 
 # Per-robot tuning; docs/results/scripted_success.md says why each value is what it is and what it measured.
-ROBOT_CFG = {"g1": ScriptedPolicyCfg(move_follow=0.0, approach_from_below=False),
-             "xhand": ScriptedPolicyCfg(grasp_depth=0.012, close_steps=15, grip_shift=0.02, lid_grip_shift=-0.02,
-                                        pick_finger_yaw=0.9, pick_grip_shift=0.043, pick_descent_while_moving=0.1,
-                                        push_lids_shut=True, hooked_lips=("laptop",), lip_hook_shift=0.08)}
+ROBOT_CFG = {
+    "g1": ScriptedPolicyCfg(move_follow=0.0, approach_from_below=False),
+    "xhand": ScriptedPolicyCfg(
+        grasp_depth=0.012,
+        close_steps=15,
+        grip_shift=0.02,
+        lid_grip_shift=-0.02,
+        pick_finger_yaw=0.9,
+        pick_grip_shift=0.043,
+        pick_descent_while_moving=0.1,
+        push_lids_shut=True,
+        hooked_lips=("laptop",),
+        lip_hook_shift=0.08,
+    ),
+}
 
 
 def rotate_about(v: np.ndarray, axis: np.ndarray, angle: np.ndarray) -> np.ndarray:
@@ -98,7 +127,9 @@ class ScriptedPolicy:
         self.phase = np.zeros(n, dtype=np.int64)
         self.phase_steps = np.zeros(n, dtype=np.int64)
         self.pregrasp_done = np.zeros(n, dtype=bool)
-        self.hold_offset = np.zeros((n, 3))  # palm relative to the grip when the hand closed, in the link frame
+        self.hold_offset = np.zeros(
+            (n, 3)
+        )  # palm relative to the grip when the hand closed, in the link frame
         grasp = np.array([env.robot.grasp_hand_qpos[j] for j in env.robot.hand_joints])
         self.hand_closed = normalize_to_limits(grasp, env.index.hand_limits)
         if self.cfg.push_lids_shut and env.object.category in LID_CATEGORIES and env.skill == "close":
@@ -119,15 +150,21 @@ class ScriptedPolicy:
         # The reward's palm rotation (+90° about world y) turns the fingers across a vertical bar, so it serves
         # every task on one, not only the rewarded ones.
         self.palm_rotation = not self.from_above and (
-            (env.object.category, env.skill) in PALM_ROTATION_TASKS or env.object.category in VERTICAL_BAR_CATEGORIES)
+            (env.object.category, env.skill) in PALM_ROTATION_TASKS
+            or env.object.category in VERTICAL_BAR_CATEGORIES
+        )
         # Only a held link follows a pull, so a pulling hand keeps its hold or grasps again; a hand that slipped
         # off a closing link still pushes it along.
         self.pulls = env.skill in PULLING_SKILLS
         self.slide = int(np.flatnonzero(~idx.ik_is_hinge)[0])  # the base slide's place in the IK chain
-        self.joint_id = int(np.flatnonzero(env.model.jnt_qposadr == idx.object_joint_qpos)[0]) \
-            if idx.object_joint_qpos >= 0 else -1
-        self.joint_is_hinge = self.joint_id >= 0 and \
-            env.model.jnt_type[self.joint_id] == mujoco.mjtJoint.mjJNT_HINGE
+        self.joint_id = (
+            int(np.flatnonzero(env.model.jnt_qposadr == idx.object_joint_qpos)[0])
+            if idx.object_joint_qpos >= 0
+            else -1
+        )
+        self.joint_is_hinge = (
+            self.joint_id >= 0 and env.model.jnt_type[self.joint_id] == mujoco.mjtJoint.mjJNT_HINGE
+        )
 
     def approach_direction(self) -> np.ndarray:
         """(n, 3) unit direction from the grip's free side toward the surface it is mounted on."""
@@ -154,7 +191,9 @@ class ScriptedPolicy:
             return self.top_down_rotation()
         if not self.palm_rotation:
             return rotation_to(palm_quat, approach)
-        target = quat_mul(quat_between_vectors(palm_direction(env.palm_rot_target), approach), env.palm_rot_target)
+        target = quat_mul(
+            quat_between_vectors(palm_direction(env.palm_rot_target), approach), env.palm_rot_target
+        )
         return rotation_onto(palm_quat, target)
 
     def top_down_rotation(self) -> np.ndarray:
@@ -162,8 +201,9 @@ class ScriptedPolicy:
         robot's heading (its base's +y)."""
         f = self.env.frames
         heading = quat_apply(f.base_quat, np.broadcast_to(np.array([0.0, 1.0, 0.0]), (self.env.num_envs, 3)))
-        fingers = rotate_about(heading, np.broadcast_to(-DOWN, heading.shape),
-                               np.full(len(heading), self.cfg.pick_finger_yaw))
+        fingers = rotate_about(
+            heading, np.broadcast_to(-DOWN, heading.shape), np.full(len(heading), self.cfg.pick_finger_yaw)
+        )
         fingers[:, 2] = 0.0
         fingers /= np.maximum(np.linalg.norm(fingers, axis=1, keepdims=True), 1e-9)
         down = np.broadcast_to(DOWN, fingers.shape)
@@ -173,8 +213,11 @@ class ScriptedPolicy:
     def __call__(self) -> np.ndarray:
         env, cfg, f = self.env, self.cfg, self.env.frames
         restarted = env.env_times == 0
-        lost = (self.phase == MOVE) & self.pulls & (
-            np.linalg.norm(f.grasp_pos - f.palm_pos, axis=1) > cfg.regrasp_distance)
+        lost = (
+            (self.phase == MOVE)
+            & self.pulls
+            & (np.linalg.norm(f.grasp_pos - f.palm_pos, axis=1) > cfg.regrasp_distance)
+        )
         self._advance(restarted | lost, APPROACH)
         self.pregrasp_done[restarted | lost] = False
 
@@ -191,7 +234,9 @@ class ScriptedPolicy:
         # Going in with the palm still turning would land a finger on a lid edge or a handle.
         aligned = np.sum(palm_direction(f.palm_quat) * approach, axis=1) > cfg.pregrasp_alignment
         self.pregrasp_done |= near_pregrasp & aligned & (self.phase == APPROACH)
-        grasp_target = f.grasp_pos + cfg.grasp_depth * approach + self.grip_shift * quat_apply(f.palm_quat, HAND_X)
+        grasp_target = (
+            f.grasp_pos + cfg.grasp_depth * approach + self.grip_shift * quat_apply(f.palm_quat, HAND_X)
+        )
         target = np.where(self.pregrasp_done[:, None], grasp_target, pregrasp)
         actions[:, 0:3] = np.clip(cfg.pos_gain * (target - f.palm_pos), -1.0, 1.0)
         if self.from_above and cfg.pick_descent_while_moving is not None:
@@ -203,7 +248,8 @@ class ScriptedPolicy:
         gap = np.linalg.norm(grasp_target - f.palm_pos, axis=1)
         # Blocked: no longer closing in on the grip, also where the palm pushes a free link ahead of it.
         blocked = (gap < cfg.blocked_radius) & (
-            np.linalg.norm(f.palm_linvel - f.grasp_linvel, axis=1) < cfg.blocked_speed)
+            np.linalg.norm(f.palm_linvel - f.grasp_linvel, axis=1) < cfg.blocked_speed
+        )
         reached = self.pregrasp_done & ((gap < cfg.grasp_tolerance) | blocked)
         self._advance(reached & (self.phase == APPROACH), CLOSE)
 
@@ -212,7 +258,9 @@ class ScriptedPolicy:
         closing = self.phase == CLOSE
         actions[closing, 0:6] = 0.0
         closed = closing & (self.phase_steps >= cfg.close_steps)
-        self.hold_offset[closed] = quat_apply(quat_conj(f.grasp_quat[closed]), (f.palm_pos - f.grasp_pos)[closed])
+        self.hold_offset[closed] = quat_apply(
+            quat_conj(f.grasp_quat[closed]), (f.palm_pos - f.grasp_pos)[closed]
+        )
         self._advance(closed, MOVE)
 
         moving = self.phase == MOVE
@@ -240,9 +288,12 @@ class ScriptedPolicy:
             return cfg.pos_gain * to_goal
         anchor, axis = env.view.xanchor[:, self.joint_id], env.view.xaxis[:, self.joint_id]
         radial = f.grasp_pos - anchor
-        across, across_goal = (p - axis * np.sum(axis * p, axis=1, keepdims=True)
-                               for p in (radial, env.goal_pos - anchor))
-        angle = np.arctan2(np.sum(axis * cross(across, across_goal), axis=1), np.sum(across * across_goal, axis=1))
+        across, across_goal = (
+            p - axis * np.sum(axis * p, axis=1, keepdims=True) for p in (radial, env.goal_pos - anchor)
+        )
+        angle = np.arctan2(
+            np.sum(axis * cross(across, across_goal), axis=1), np.sum(across * across_goal, axis=1)
+        )
         radius = np.maximum(np.linalg.norm(across, axis=1), 1e-3)
         lead = cfg.arc_lead / radius
         ahead = rotate_about(radial, axis, np.clip(angle, -lead, lead)) - radial

@@ -34,8 +34,9 @@ def sample_objects(category: str, per_category: int) -> list[str]:
 
 def episode_success(robot: str, object_id: str, skill: str, episodes: int, seed: int) -> float:
     """Fraction of the first `episodes` episodes (one per env) that succeed."""
-    env = MobileManiEnv(EnvCfg(num_envs=episodes, seed=seed, task=TaskCfg(robot=robot, object=object_id,
-                                                                        skill=skill)))
+    env = MobileManiEnv(
+        EnvCfg(num_envs=episodes, seed=seed, task=TaskCfg(robot=robot, object=object_id, skill=skill))
+    )
     env.reset()
     policy = ScriptedPolicy(env)
     done = np.zeros(episodes, dtype=bool)
@@ -59,8 +60,11 @@ def run(robots: list[str], categories: list[str], per_category: int, episodes: i
                     start = time.time()
                     rate = episode_success(robot, oid, skill, episodes, seed)
                     results.setdefault(robot, {}).setdefault(category, {}).setdefault(skill, {})[oid] = rate
-                    print(f"{robot:6s} {oid:22s} {skill:6s} {rate:.2f} ({time.time() - start:.1f}s)",
-                          file=sys.stderr, flush=True)
+                    print(
+                        f"{robot:6s} {oid:22s} {skill:6s} {rate:.2f} ({time.time() - start:.1f}s)",
+                        file=sys.stderr,
+                        flush=True,
+                    )
     return results
 
 

@@ -30,8 +30,19 @@ class Table:
             if i in self.separators:
                 body.append(r"\midrule")
             body.append(" & ".join(cell.translate(escape) for cell in row) + r" \\")
-        return "\n".join([
-            r"\begin{table}[t]", r"\centering", rf"\begin{{tabular}}{{{columns}}}", r"\toprule",
-            " & ".join(h.translate(escape) for h in self.header) + r" \\", r"\midrule", *body, r"\bottomrule",
-            r"\end{tabular}", rf"\caption{{{self.caption.translate(escape)}}}", r"\end{table}", "",
-        ])
+        return "\n".join(
+            [
+                r"\begin{table}[t]",
+                r"\centering",
+                rf"\begin{{tabular}}{{{columns}}}",
+                r"\toprule",
+                " & ".join(h.translate(escape) for h in self.header) + r" \\",
+                r"\midrule",
+                *body,
+                r"\bottomrule",
+                r"\end{tabular}",
+                rf"\caption{{{self.caption.translate(escape)}}}",
+                r"\end{table}",
+                "",
+            ]
+        )

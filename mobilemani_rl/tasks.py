@@ -76,7 +76,7 @@ def _object_ids(subset: SubsetCfg) -> list[str]:
     ids: list[str] = []
     for category in categories:
         found = catalog_ids(category, subset.split)
-        ids += found[:subset.objects_per_category] if subset.objects_per_category else found
+        ids += found[: subset.objects_per_category] if subset.objects_per_category else found
     return ids
 
 
@@ -96,9 +96,12 @@ def select_combinations(robot: str, subset: SubsetCfg) -> list[Combination]:
         scenes = [p.scene_id for p in placements_for(obj, scene_split)]
         if wanted_scenes is not None:
             scenes = [s for s in scenes if s in wanted_scenes]
-        scenes = scenes[:subset.scenes_per_object] if subset.scenes_per_object else scenes
-        combos += [Combination(robot, oid, obj.category, skill, scene, obj.split or "none", scene_split)
-                   for skill in skills for scene in scenes]
+        scenes = scenes[: subset.scenes_per_object] if subset.scenes_per_object else scenes
+        combos += [
+            Combination(robot, oid, obj.category, skill, scene, obj.split or "none", scene_split)
+            for skill in skills
+            for scene in scenes
+        ]
     if not combos:
         raise UnknownNameError(f"the subset {subset} selects no (object, skill, scene) combination")
     return combos
@@ -106,6 +109,13 @@ def select_combinations(robot: str, subset: SubsetCfg) -> list[Combination]:
 
 def recording_env_cfg(base: EnvCfg, task: TaskCfg, num_envs: int, seed: int) -> EnvCfg:
     """The env config one combination is recorded with: the base settings, its task, recording resets."""
-    merged = OmegaConf.merge(OmegaConf.structured(base), {"task": OmegaConf.structured(task), "num_envs": num_envs,
-                                                          "seed": seed, "reset": {"recording": True}})
+    merged = OmegaConf.merge(
+        OmegaConf.structured(base),
+        {
+            "task": OmegaConf.structured(task),
+            "num_envs": num_envs,
+            "seed": seed,
+            "reset": {"recording": True},
+        },
+    )
     return OmegaConf.to_object(merged)

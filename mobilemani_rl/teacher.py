@@ -35,9 +35,11 @@ def find_teacher_checkpoint(runs_dir: str | Path, robot: str, object_id: str, sk
     for run_dir in (own, category):
         if (found := latest_checkpoint(run_dir)) is not None:
             return found
-    raise FileNotFoundError(f"no teacher checkpoint model_*.pt in {own} nor in its category's run {category} (train "
-                            f"one with python -m mobilemani_rl.train robot={robot} task.object={object_id} or "
-                            f"task.object={get_object(object_id).category} task.skill={skill})")
+    raise FileNotFoundError(
+        f"no teacher checkpoint model_*.pt in {own} nor in its category's run {category} (train "
+        f"one with python -m mobilemani_rl.train robot={robot} task.object={object_id} or "
+        f"task.object={get_object(object_id).category} task.skill={skill})"
+    )
 
 
 def trained_success(run_dir: Path) -> float | None:
@@ -50,19 +52,26 @@ def run_config(checkpoint: Path) -> DictConfig:
     """The config the checkpoint's run was trained with (its run directory's config.yaml)."""
     path = checkpoint.parent / CONFIG
     if not path.is_file():
-        raise FileNotFoundError(f"{checkpoint} has no {CONFIG} beside it; it is not a mobilemani_rl.train run")
+        raise FileNotFoundError(
+            f"{checkpoint} has no {CONFIG} beside it; it is not a mobilemani_rl.train run"
+        )
     return OmegaConf.load(path)
 
 
-def load_teacher(checkpoint: Path, env: MobileManiEnv | MultiObjectEnv | None = None, num_envs: int | None = None,
-                 cfg: DictConfig | None = None) -> tuple[MobileManiEnv | MultiObjectEnv, torch.nn.Module]:
+def load_teacher(
+    checkpoint: Path,
+    env: MobileManiEnv | MultiObjectEnv | None = None,
+    num_envs: int | None = None,
+    cfg: DictConfig | None = None,
+) -> tuple[MobileManiEnv | MultiObjectEnv, torch.nn.Module]:
     """The teacher's env and deterministic actor. The actor acts in `env` when given, else in a new env built from
     `cfg` (default: the run's own config) with `num_envs` envs; the teacher was trained with that config's physics
     and action scales."""
     if not checkpoint.is_file():
         raise FileNotFoundError(f"teacher checkpoint {checkpoint} does not exist")
-    runner = build_runner(cfg if cfg is not None else run_config(checkpoint), run_dir=None, num_envs=num_envs,
-                          env=env)
+    runner = build_runner(
+        cfg if cfg is not None else run_config(checkpoint), run_dir=None, num_envs=num_envs, env=env
+    )
     runner.load(str(checkpoint))
     return runner.env.env, runner.get_inference_policy()
 

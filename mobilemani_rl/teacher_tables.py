@@ -24,8 +24,13 @@ ROBOTS = ("g1", "xhand")
 FORWARD, BACKWARD = ("open", "pull", "pick"), ("close", "push")
 SKILLS = FORWARD + BACKWARD
 # MobileManiRL success (%) from the paper, Table 2: G1, XHand.
-PAPER_BY_SKILL = {"open": (86.6, 91.9), "close": (96.2, 96.5), "pull": (80.8, 97.3), "push": (93.1, 97.2),
-                  "pick": (66.4, 72.6)}
+PAPER_BY_SKILL = {
+    "open": (86.6, 91.9),
+    "close": (96.2, 96.5),
+    "pull": (80.8, 97.3),
+    "push": (93.1, 97.2),
+    "pick": (66.4, 72.6),
+}
 
 
 def newest_results(root: Path) -> list[dict]:
@@ -58,35 +63,60 @@ def category_table(success: dict[tuple[str, str, str], float]) -> Table:
         grouped[(OBJECTS[object_id].category, group, robot)].append(rate)
     rows = []
     for category in CATEGORIES:
-        counts = [len(catalog_ids(category)), len(catalog_ids(category, "train")), len(catalog_ids(category, "test"))]
-        cells = [pct(mean_or_none(grouped[(category, g, r)])) for g in ("forward", "backward") for r in ROBOTS]
+        counts = [
+            len(catalog_ids(category)),
+            len(catalog_ids(category, "train")),
+            len(catalog_ids(category, "test")),
+        ]
+        cells = [
+            pct(mean_or_none(grouped[(category, g, r)])) for g in ("forward", "backward") for r in ROBOTS
+        ]
         rows.append([category.replace("_", " ").title(), *map(str, counts), *cells])
-    header = ["Object", "Total", "Train", "Test", "Open/Pull/Pick G1", "Open/Pull/Pick XHand", "Close/Push G1",
-              "Close/Push XHand"]
+    header = [
+        "Object",
+        "Total",
+        "Train",
+        "Test",
+        "Open/Pull/Pick G1",
+        "Open/Pull/Pick XHand",
+        "Close/Push G1",
+        "Close/Push XHand",
+    ]
     return Table(header, rows, "Success rates (%) of MobileManiRL teachers per object category.")
 
 
 def skill_table(success: dict[tuple[str, str, str], float]) -> Table:
     rows = []
     for skill in SKILLS:
-        ours = [mean_or_none([v for (r, _, s), v in success.items() if r == robot and s == skill]) for robot in ROBOTS]
+        ours = [
+            mean_or_none([v for (r, _, s), v in success.items() if r == robot and s == skill])
+            for robot in ROBOTS
+        ]
         rows.append([skill.title(), *map(pct, ours), *(f"{p:.1f}" for p in PAPER_BY_SKILL[skill])])
     means = [mean_or_none(list(v for (r, _, _), v in success.items() if r == robot)) for robot in ROBOTS]
     rows.append(["Mean", *map(pct, means), "89.6", "92.9"])
-    return Table(["Skill", "G1", "XHand", "G1 (paper)", "XHand (paper)"], rows,
-                 "Success rates (%) of MobileManiRL teachers across the 5 skills.", separators=(len(SKILLS),))
+    return Table(
+        ["Skill", "G1", "XHand", "G1 (paper)", "XHand (paper)"],
+        rows,
+        "Success rates (%) of MobileManiRL teachers across the 5 skills.",
+        separators=(len(SKILLS),),
+    )
 
 
 def main() -> None:
-    parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    parser = argparse.ArgumentParser(
+        description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter
+    )
     parser.add_argument("root", nargs="?", type=Path, default=Path("runs/rl"))
     parser.add_argument("--out", type=Path, default=None)
     args = parser.parse_args()
     success = object_success(newest_results(args.root))
     if not success:  # not an error: `make tables` goes on to the VLA tables, which may have results
-        print(f"missing input: no teacher evaluation (eval_*.json) under {args.root}; `make rl` writes one, or "
-              "python -m mobilemani_rl.eval checkpoint=<run>/model_<it>.pt. The teacher tables hold the paper's "
-              "numbers only.")
+        print(
+            f"missing input: no teacher evaluation (eval_*.json) under {args.root}; `make rl` writes one, or "
+            "python -m mobilemani_rl.eval checkpoint=<run>/model_<it>.pt. The teacher tables hold the paper's "
+            "numbers only."
+        )
     tables = {"rl_by_skill": skill_table(success), "rl_by_category": category_table(success)}
     for name, table in tables.items():
         print(table.markdown())

@@ -66,29 +66,44 @@ def train(cfg: DictConfig) -> Path:
         runner.load(str(warm))
         print(f"resuming {run_dir} from its finished warm start ({WARM_START_CHECKPOINT})")
     elif ppo.warm_start.episodes > 0:
-        print(f"warm start: cloning the scripted policy before {ppo.max_iterations} PPO iterations "
-              "(rl.ppo.warm_start.episodes=0 trains from scratch)")
+        print(
+            f"warm start: cloning the scripted policy before {ppo.max_iterations} PPO iterations "
+            "(rl.ppo.warm_start.episodes=0 trains from scratch)"
+        )
         info = warm_start(runner.alg.actor, runner.alg.critic, runner.env.env, ppo.warm_start, ppo.gamma)
         write_json_atomic(run_dir / WARM_START, {**info, "seconds": round(time.time() - wall, 1)})
-        runner.save(str(warm))  # last and atomic: only a finished warm start is kept, and a rerun starts PPO from it
-        print(f"warm start: cloned {info['episodes']} scripted episodes ({info['steps']} steps, scripted success "
-              f"{info['scripted_success']:.2f}), actor loss {info['actor_loss'][0]:.4f} -> {info['actor_loss'][1]:.4f}")
+        runner.save(
+            str(warm)
+        )  # last and atomic: only a finished warm start is kept, and a rerun starts PPO from it
+        print(
+            f"warm start: cloned {info['episodes']} scripted episodes ({info['steps']} steps, scripted success "
+            f"{info['scripted_success']:.2f}), actor loss {info['actor_loss'][0]:.4f} -> {info['actor_loss'][1]:.4f}"
+        )
     remaining = ppo.max_iterations - start
     if remaining > 0:
         runner.learn(num_learning_iterations=remaining, init_at_random_ep_len=ppo.init_at_random_ep_len)
     curve = runner.logger.curve
     write_json_atomic(run_dir / CURVE, curve)
-    write_json_atomic(run_dir / RESULT, {
-        "iterations": ppo.max_iterations, "samples": ppo.max_iterations * ppo.num_envs * ppo.num_steps_per_env,
-        "train_success": last_measured_success(curve), "wall_seconds_this_session": round(time.time() - wall, 1),
-        "checkpoint": str(latest_checkpoint(run_dir)),
-    })
+    write_json_atomic(
+        run_dir / RESULT,
+        {
+            "iterations": ppo.max_iterations,
+            "samples": ppo.max_iterations * ppo.num_envs * ppo.num_steps_per_env,
+            "train_success": last_measured_success(curve),
+            "wall_seconds_this_session": round(time.time() - wall, 1),
+            "checkpoint": str(latest_checkpoint(run_dir)),
+        },
+    )
     return run_dir
 
 
 def last_measured_success(curve: list[dict]) -> float | None:
     """The newest finite success of a training curve: an iteration in which no episode ended logs NaN."""
-    measured = [row["success"] for row in curve if isinstance(row.get("success"), float) and math.isfinite(row["success"])]
+    measured = [
+        row["success"]
+        for row in curve
+        if isinstance(row.get("success"), float) and math.isfinite(row["success"])
+    ]
     return measured[-1] if measured else None
 
 
@@ -98,9 +113,13 @@ def main(cfg: DictConfig) -> None:
     if cfg.eval_episodes > 0:
         result = evaluate(latest_checkpoint(run_dir), cfg.eval_episodes, seed=1000)
         trained = sum(r["trained"] for r in result["objects"].values())
-        by_split = ", ".join(f"{split} {rate:.3f}" for split, rate in sorted(result["success_by_split"].items()))
-        print(f"{run_dir}: success {result['success_rate']:.3f} on the {trained} trained object(s), "
-              f"{cfg.eval_episodes} episodes each (all {len(result['objects'])} evaluated objects by split: {by_split})")
+        by_split = ", ".join(
+            f"{split} {rate:.3f}" for split, rate in sorted(result["success_by_split"].items())
+        )
+        print(
+            f"{run_dir}: success {result['success_rate']:.3f} on the {trained} trained object(s), "
+            f"{cfg.eval_episodes} episodes each (all {len(result['objects'])} evaluated objects by split: {by_split})"
+        )
 
 
 if __name__ == "__main__":

@@ -51,7 +51,9 @@ def jitter_colour(rgb: torch.Tensor, cfg: AugmentCfg) -> torch.Tensor:
         mean = out.mean(dim=(1, 2, 3), keepdim=True)
         out = (out - mean) * _factor(cfg.contrast, shape, out) + mean
     if cfg.saturation > 0:
-        grey = (out * torch.tensor([0.299, 0.587, 0.114], device=out.device).view(1, 3, 1, 1)).sum(1, keepdim=True)
+        grey = (out * torch.tensor([0.299, 0.587, 0.114], device=out.device).view(1, 3, 1, 1)).sum(
+            1, keepdim=True
+        )
         out = (out - grey) * _factor(cfg.saturation, shape, out) + grey
     return out.clamp(0.0, 1.0)
 

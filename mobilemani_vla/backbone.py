@@ -21,30 +21,53 @@ from mobilemani_vla.config import ModelCfg
 def paligemma_config(cfg: ModelCfg) -> PaliGemmaConfig:
     """The backbone architecture described by a model config (no weights)."""
     v, t = cfg.vision, cfg.text
-    vision = SiglipVisionConfig(hidden_size=v.hidden_size, intermediate_size=v.intermediate_size,
-                                num_hidden_layers=v.num_hidden_layers, num_attention_heads=v.num_attention_heads,
-                                image_size=v.image_size, patch_size=v.patch_size, vision_use_head=False)
-    text = Gemma2Config(vocab_size=t.vocab_size, hidden_size=t.hidden_size, intermediate_size=t.intermediate_size,
-                        num_hidden_layers=t.num_hidden_layers, num_attention_heads=t.num_attention_heads,
-                        num_key_value_heads=t.num_key_value_heads, head_dim=t.head_dim,
-                        sliding_window=t.sliding_window, query_pre_attn_scalar=t.query_pre_attn_scalar)
+    vision = SiglipVisionConfig(
+        hidden_size=v.hidden_size,
+        intermediate_size=v.intermediate_size,
+        num_hidden_layers=v.num_hidden_layers,
+        num_attention_heads=v.num_attention_heads,
+        image_size=v.image_size,
+        patch_size=v.patch_size,
+        vision_use_head=False,
+    )
+    text = Gemma2Config(
+        vocab_size=t.vocab_size,
+        hidden_size=t.hidden_size,
+        intermediate_size=t.intermediate_size,
+        num_hidden_layers=t.num_hidden_layers,
+        num_attention_heads=t.num_attention_heads,
+        num_key_value_heads=t.num_key_value_heads,
+        head_dim=t.head_dim,
+        sliding_window=t.sliding_window,
+        query_pre_attn_scalar=t.query_pre_attn_scalar,
+    )
     # The image token id sits just past the text vocabulary, as in PaliGemma-2 (we never embed it).
-    config = PaliGemmaConfig(vision_config=vision, text_config=text, image_token_index=t.vocab_size,
-                             vocab_size=t.vocab_size, projection_dim=t.hidden_size, hidden_size=t.hidden_size)
+    config = PaliGemmaConfig(
+        vision_config=vision,
+        text_config=text,
+        image_token_index=t.vocab_size,
+        vocab_size=t.vocab_size,
+        projection_dim=t.hidden_size,
+        hidden_size=t.hidden_size,
+    )
     if cfg.attn_implementation is not None:
         config._attn_implementation = cfg.attn_implementation
     return config
 
 
-def load_paligemma(path: str | Path, attn_implementation: str | None = None,
-                   dtype: torch.dtype = torch.float32) -> PaliGemmaModel:
+def load_paligemma(
+    path: str | Path, attn_implementation: str | None = None, dtype: torch.dtype = torch.float32
+) -> PaliGemmaModel:
     """Pretrained weights from a local directory only (no hub access), in `dtype`; the LM head is dropped."""
     if not (Path(path) / "config.json").is_file():
-        raise FileNotFoundError(f"no PaliGemma checkpoint at {path} (model.pretrained_path needs config.json + "
-                                "safetensors; real PaliGemma-2 weights must be placed on disk by hand)")
+        raise FileNotFoundError(
+            f"no PaliGemma checkpoint at {path} (model.pretrained_path needs config.json + "
+            "safetensors; real PaliGemma-2 weights must be placed on disk by hand)"
+        )
     kwargs = {"attn_implementation": attn_implementation} if attn_implementation else {}
-    full = PaliGemmaForConditionalGeneration.from_pretrained(str(path), local_files_only=True,
-                                                             dtype=dtype, **kwargs)
+    full = PaliGemmaForConditionalGeneration.from_pretrained(
+        str(path), local_files_only=True, dtype=dtype, **kwargs
+    )
     return full.model
 
 
@@ -76,8 +99,9 @@ class CognitionBackbone(nn.Module):
         features = self.vlm.get_image_features(pixels.to(self.cognition.dtype)).pooler_output
         return features.reshape(b, -1, features.shape[-1])
 
-    def forward(self, pixel_values: torch.Tensor, input_ids: torch.Tensor,
-                attention_mask: torch.Tensor) -> torch.Tensor:
+    def forward(
+        self, pixel_values: torch.Tensor, input_ids: torch.Tensor, attention_mask: torch.Tensor
+    ) -> torch.Tensor:
         """-> the cognition token's last-layer (post-norm) hidden state, (B, width)."""
         images = self.image_tokens(pixel_values)
         text = self.vlm.get_input_embeddings()(input_ids)
@@ -88,6 +112,11 @@ class CognitionBackbone(nn.Module):
         mask = torch.cat([ones.expand(b, n_img), attention_mask, ones], dim=1)
         positions = (mask.cumsum(-1) * mask).clamp(min=1)  # PaliGemma counts from 1; pads are skipped
         token_type = torch.cat([mask.new_zeros(b, n_img + n_txt), ones], dim=1)
-        out = self.vlm(inputs_embeds=embeds, attention_mask=mask, position_ids=positions,
-                       token_type_ids=token_type, use_cache=False)
+        out = self.vlm(
+            inputs_embeds=embeds,
+            attention_mask=mask,
+            position_ids=positions,
+            token_type_ids=token_type,
+            use_cache=False,
+        )
         return out.last_hidden_state[:, -1]

@@ -38,19 +38,27 @@ def compose_cfg(overrides: list[str]) -> VLACfg:
 
 def parameter_counts(model: MobileManiVLA) -> dict[str, int]:
     count = lambda m: sum(p.numel() for p in m.parameters())  # noqa: E731
-    return {"backbone": count(model.backbone), "dit": count(model.head.dit),
-            "state_encoder": 0 if model.state_encoder is None else count(model.state_encoder),
-            "total": count(model)}
+    return {
+        "backbone": count(model.backbone),
+        "dit": count(model.head.dit),
+        "state_encoder": 0 if model.state_encoder is None else count(model.state_encoder),
+        "total": count(model),
+    }
 
 
 def synthetic_batch(model: MobileManiVLA, cfg: VLACfg, batch: int) -> dict[str, torch.Tensor]:
     size = model.backbone.image_size
     tokenizer = build_word_tokenizer()
-    enc = tokenizer([cfg.model.prompt.format(instruction="open washing machine")] * batch, return_tensors="pt")
-    return {"pixel_values": torch.rand(batch, len(cfg.inputs.cameras), 3, size, size),
-            "input_ids": enc["input_ids"], "attention_mask": enc["attention_mask"],
-            "state": torch.rand(batch, sum(STATE_DIMS[s] for s in cfg.inputs.states)) * 2 - 1,
-            "actions": torch.rand(batch, cfg.diffusion.chunk, cfg.action_dim) * 2 - 1}
+    enc = tokenizer(
+        [cfg.model.prompt.format(instruction="open washing machine")] * batch, return_tensors="pt"
+    )
+    return {
+        "pixel_values": torch.rand(batch, len(cfg.inputs.cameras), 3, size, size),
+        "input_ids": enc["input_ids"],
+        "attention_mask": enc["attention_mask"],
+        "state": torch.rand(batch, sum(STATE_DIMS[s] for s in cfg.inputs.states)) * 2 - 1,
+        "actions": torch.rand(batch, cfg.diffusion.chunk, cfg.action_dim) * 2 - 1,
+    }
 
 
 def best_seconds(fn: Callable[[], None], runs: int) -> float:
@@ -80,27 +88,50 @@ def bench(name: str, batch: int, steps: int, runs: int, cameras: int) -> dict:
     model.eval()
     infer = best_seconds(lambda: model.predict(one), runs)
     train = best_seconds(train_step, steps)
-    return {"model": name, "image_size": model.backbone.image_size, "cameras": cameras,
-            "image_tokens": cameras * model.backbone.tokens_per_image, "dit": cfg.model.dit,
-            "params": parameter_counts(model), "train_batch": batch,
-            "train_samples_per_s": batch / train, "infer_s_per_chunk": infer,
-            "ddim_steps": cfg.diffusion.ddim_steps, "threads": torch.get_num_threads()}
+    return {
+        "model": name,
+        "image_size": model.backbone.image_size,
+        "cameras": cameras,
+        "image_tokens": cameras * model.backbone.tokens_per_image,
+        "dit": cfg.model.dit,
+        "params": parameter_counts(model),
+        "train_batch": batch,
+        "train_samples_per_s": batch / train,
+        "infer_s_per_chunk": infer,
+        "ddim_steps": cfg.diffusion.ddim_steps,
+        "threads": torch.get_num_threads(),
+    }
 
 
 def bench_dataset(root: str, name: str, batch: int, steps: int) -> list[dict]:
     """Training samples/s on a real dataset, with and without the frame cache (same model, same batches size)."""
     out = []
     for cache in (False, True):
-        cfg = compose_cfg([f"vla/model={name}", f"data.root={root}", f"data.cache={str(cache).lower()}",
-                           "data.heldout_episodes=0"])
+        cfg = compose_cfg(
+            [
+                f"vla/model={name}",
+                f"data.root={root}",
+                f"data.cache={str(cache).lower()}",
+                "data.heldout_episodes=0",
+            ]
+        )
         torch.manual_seed(0)
-        data = open_data(cfg, cfg.model.vision.image_size, progress=False)  # builds the cache if it is missing
+        data = open_data(
+            cfg, cfg.model.vision.image_size, progress=False
+        )  # builds the cache if it is missing
         tokenizer = build_word_tokenizer(data.tasks)
         model = build_model(cfg, tokenizer)
-        processor = VLAProcessor(tokenizer, fit_normalizer(data.table, data.table.rows(data.train_episodes),
-                                                           cfg.inputs.states),
-                                 cfg.inputs.cameras, cfg.inputs.states, model.backbone.image_size, cfg.model.prompt)
-        loader = iter(torch.utils.data.DataLoader(data.train, batch_size=batch, shuffle=True, collate_fn=processor))
+        processor = VLAProcessor(
+            tokenizer,
+            fit_normalizer(data.table, data.table.rows(data.train_episodes), cfg.inputs.states),
+            cfg.inputs.cameras,
+            cfg.inputs.states,
+            model.backbone.image_size,
+            cfg.model.prompt,
+        )
+        loader = iter(
+            torch.utils.data.DataLoader(data.train, batch_size=batch, shuffle=True, collate_fn=processor)
+        )
         optimizer = torch.optim.AdamW(model.parameters(), lr=cfg.train.lr)
         next(loader)
         start = time.perf_counter()
@@ -113,8 +144,16 @@ def bench_dataset(root: str, name: str, batch: int, steps: int) -> list[dict]:
         for _ in range(steps):
             next(loader)
         load = steps * batch / (time.perf_counter() - start)
-        out.append({"model": name, "cache": cache, "batch": batch, "steps": steps,
-                    "train_samples_per_s": train, "load_only_samples_per_s": load})
+        out.append(
+            {
+                "model": name,
+                "cache": cache,
+                "batch": batch,
+                "steps": steps,
+                "train_samples_per_s": train,
+                "load_only_samples_per_s": load,
+            }
+        )
     return out
 
 
@@ -132,20 +171,28 @@ def main() -> None:
     parser.add_argument("--steps", type=int, default=3, help="timed training steps per model")
     parser.add_argument("--runs", type=int, default=3, help="timed inference calls per model")
     parser.add_argument("--cameras", type=int, default=4, choices=range(1, 5))
-    parser.add_argument("--dataset", help="a MobileManiDataset root: also time training on it, cache on and off")
+    parser.add_argument(
+        "--dataset", help="a MobileManiDataset root: also time training on it, cache on and off"
+    )
     parser.add_argument("--dataset-model", default="cpu", help="model config for --dataset")
     args = parser.parse_args()
     results = [bench(m, args.batch, args.steps, args.runs, args.cameras) for m in args.models]
     on_data = bench_dataset(args.dataset, args.dataset_model, args.batch, args.steps) if args.dataset else []
     big = meta_counts()
-    print(f"{'model':<14}{'img tok':>8}{'dit':>4}{'params (M)':>12}{'train samples/s':>17}{'infer s/chunk':>15}")
+    print(
+        f"{'model':<14}{'img tok':>8}{'dit':>4}{'params (M)':>12}{'train samples/s':>17}{'infer s/chunk':>15}"
+    )
     for r in results:
-        print(f"{r['model']:<14}{r['image_tokens']:>8}{r['dit']:>4}{r['params']['total'] / 1e6:>12.2f}"
-              f"{r['train_samples_per_s']:>17.2f}{r['infer_s_per_chunk']:>15.3f}")
+        print(
+            f"{r['model']:<14}{r['image_tokens']:>8}{r['dit']:>4}{r['params']['total'] / 1e6:>12.2f}"
+            f"{r['train_samples_per_s']:>17.2f}{r['infer_s_per_chunk']:>15.3f}"
+        )
     print(f"{big['model']:<14}{'':>8}{'B':>4}{big['params']['total'] / 1e6:>12.1f}{'(meta, not run)':>32}")
     for r in on_data:
-        print(f"{args.dataset} ({r['model']}, frame cache {'on' if r['cache'] else 'off'}): "
-              f"{r['train_samples_per_s']:.1f} training samples/s, {r['load_only_samples_per_s']:.1f} loaded samples/s")
+        print(
+            f"{args.dataset} ({r['model']}, frame cache {'on' if r['cache'] else 'off'}): "
+            f"{r['train_samples_per_s']:.1f} training samples/s, {r['load_only_samples_per_s']:.1f} loaded samples/s"
+        )
     print(json.dumps({"cpu": results, "meta": big, "dataset": on_data}, indent=1))
 
 

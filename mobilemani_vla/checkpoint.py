@@ -1,15 +1,15 @@
 """Checkpoint directory layout (one per saved step, written under a temporary name and renamed when complete):
 
-    model.safetensors  optimizer.bin  random_states_*.pkl   accelerate's training state (weights unwrapped); under
-                         FSDP accelerate writes pytorch_model_fsdp.bin instead and the trainer adds the gathered
-                         weights as model.safetensors, so every checkpoint has one
-    ema.safetensors      the moving average of the weights (train.ema_decay > 0); evaluation loads these
-    config.yaml          the VLACfg
-    backbone_config.json the PaliGemma config, so reloading needs no pretrained directory
-    normalizer.json      per-dimension bounds of actions and states (training split)
-    dataset.json         the training dataset: root, episodes, recorded image size (height, width)
-    tokenizer/           the tokenizer
-    trainer_state.json   the step
+model.safetensors  optimizer.bin  random_states_*.pkl   accelerate's training state (weights unwrapped); under
+                     FSDP accelerate writes pytorch_model_fsdp.bin instead and the trainer adds the gathered
+                     weights as model.safetensors, so every checkpoint has one
+ema.safetensors      the moving average of the weights (train.ema_decay > 0); evaluation loads these
+config.yaml          the VLACfg
+backbone_config.json the PaliGemma config, so reloading needs no pretrained directory
+normalizer.json      per-dimension bounds of actions and states (training split)
+dataset.json         the training dataset: root, episodes, recorded image size (height, width)
+tokenizer/           the tokenizer
+trainer_state.json   the step
 """
 
 from __future__ import annotations
@@ -37,9 +37,16 @@ STATE = "trainer_state.json"
 PREFIX = "step_"
 
 
-def save_artifacts(directory: Path, cfg: VLACfg, model: MobileManiVLA, normalizer: Normalizer,
-                   tokenizer: PreTrainedTokenizerBase, step: int, dataset: dict, ema: AveragedModel | None = None
-                   ) -> None:
+def save_artifacts(
+    directory: Path,
+    cfg: VLACfg,
+    model: MobileManiVLA,
+    normalizer: Normalizer,
+    tokenizer: PreTrainedTokenizerBase,
+    step: int,
+    dataset: dict,
+    ema: AveragedModel | None = None,
+) -> None:
     (directory / DATASET).write_text(json.dumps(dataset, indent=1))
     if ema is not None:
         save_model(ema, str(directory / EMA_WEIGHTS))
@@ -99,13 +106,18 @@ def trained_weights(directory: Path) -> dict[str, torch.Tensor]:
     if (directory / FSDP_WEIGHTS).is_file():
         return torch.load(directory / FSDP_WEIGHTS, map_location="cpu", weights_only=True)
     if (directory / FSDP_SHARDS).is_dir():
-        raise FileNotFoundError(f"{directory} holds sharded FSDP weights only; merge them first: accelerate "
-                                f"merge-weights {directory / FSDP_SHARDS} {directory}")
-    raise FileNotFoundError(f"{directory} is not a complete MobileManiVLA checkpoint (no {WEIGHTS} or {FSDP_WEIGHTS})")
+        raise FileNotFoundError(
+            f"{directory} holds sharded FSDP weights only; merge them first: accelerate "
+            f"merge-weights {directory / FSDP_SHARDS} {directory}"
+        )
+    raise FileNotFoundError(
+        f"{directory} is not a complete MobileManiVLA checkpoint (no {WEIGHTS} or {FSDP_WEIGHTS})"
+    )
 
 
-def load_checkpoint(directory: str | Path, device: str | torch.device = "cpu"
-                    ) -> tuple[VLACfg, MobileManiVLA, Normalizer, PreTrainedTokenizerBase]:
+def load_checkpoint(
+    directory: str | Path, device: str | torch.device = "cpu"
+) -> tuple[VLACfg, MobileManiVLA, Normalizer, PreTrainedTokenizerBase]:
     """The evaluated model: the moving-average weights when the run kept them, else the trained ones."""
     directory = Path(directory)
     if not (directory / STATE).is_file():
@@ -115,7 +127,9 @@ def load_checkpoint(directory: str | Path, device: str | torch.device = "cpu"
     model = build_model(cfg, tokenizer, PaliGemmaConfig.from_json_file(directory / "backbone_config.json"))
     if (directory / EMA_WEIGHTS).is_file():
         prefix = "module."
-        state = {k[len(prefix):]: v for k, v in load_file(directory / EMA_WEIGHTS).items() if k.startswith(prefix)}
+        state = {
+            k[len(prefix) :]: v for k, v in load_file(directory / EMA_WEIGHTS).items() if k.startswith(prefix)
+        }
     else:
         state = trained_weights(directory)
     model.load_state_dict(state)

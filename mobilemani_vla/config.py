@@ -84,7 +84,9 @@ class DataCfg:
     repo_id: str = "mobilemani/g1"
     episodes: list[int] | None = None  # null: every episode
     heldout_episodes: int = 4  # whole episodes kept out of training for the diagnostics (seeded choice)
-    cache: bool = True  # decoded-frame cache next to the dataset (mobilemani_vla.frame_cache); false: decode per sample
+    cache: bool = (
+        True  # decoded-frame cache next to the dataset (mobilemani_vla.frame_cache); false: decode per sample
+    )
     video_backend: str = "pyav"
     num_workers: int = 0
 
@@ -99,12 +101,16 @@ class TrainCfg:
     lr_schedule: str = "cosine"  # a diffusers.optimization schedule name: constant, cosine, linear, ...
     warmup_steps: int = 200
     weight_decay: float = 0.01
-    ema_decay: float = 0.999  # > 0: an exponential moving average of the weights, saved and used for evaluation
+    ema_decay: float = (
+        0.999  # > 0: an exponential moving average of the weights, saved and used for evaluation
+    )
     grad_clip: float = 1.0
     mixed_precision: str = "no"  # "bf16" on GPUs
     gradient_checkpointing: bool = False
     log_every: int = 10
-    diagnose_every: int = 500  # > 0: held-out diagnostics (noise error with image vs null feature, open-loop error)
+    diagnose_every: int = (
+        500  # > 0: held-out diagnostics (noise error with image vs null feature, open-loop error)
+    )
     diagnose_frames: int = 64  # held-out frames the diagnostics use (a fixed, evenly spaced choice)
     diagnose_cfg_scales: list[float] = field(default_factory=lambda: [1.0, 1.5])  # open-loop error per scale
     save_every: int = 500
@@ -159,7 +165,9 @@ def vla_cfg_from_hydra(cfg: DictConfig) -> VLACfg:
 
 
 def vla_cfg_from_yaml(text: str) -> VLACfg:
-    return OmegaConf.to_object(OmegaConf.merge(OmegaConf.structured(VLACfg), OmegaConf.create(text))).validate()
+    return OmegaConf.to_object(
+        OmegaConf.merge(OmegaConf.structured(VLACfg), OmegaConf.create(text))
+    ).validate()
 
 
 def vla_cfg_to_yaml(cfg: VLACfg) -> str:

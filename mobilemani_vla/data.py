@@ -40,7 +40,9 @@ def open_metadata(cfg: VLACfg) -> LeRobotDatasetMetadata:
     """The dataset's metadata; stops with one message if there is no dataset or it does not fit the config."""
     root = Path(cfg.data.root)
     if not (root / "meta" / "info.json").is_file():
-        raise FileNotFoundError(f"no LeRobot dataset at {root} (set data.root; export one with mobilemani_data)")
+        raise FileNotFoundError(
+            f"no LeRobot dataset at {root} (set data.root; export one with mobilemani_data)"
+        )
     meta = LeRobotDatasetMetadata(cfg.data.repo_id, root=root)
     check_dataset_files(meta)
     missing = [k for k in required_features(cfg) if k not in meta.features]
@@ -67,8 +69,12 @@ class FrameTable:
         episode_index = table["episode_index"]
         ends = {ep["episode_index"]: ep["dataset_to_index"] for ep in meta.episodes}
         names = {int(i): task for task, i in zip(meta.tasks.index, meta.tasks["task_index"], strict=True)}
-        return cls({k: table[k] for k in keys}, episode_index, np.array([ends[e] for e in episode_index]),
-                   [names[int(i)] for i in table["task_index"]])
+        return cls(
+            {k: table[k] for k in keys},
+            episode_index,
+            np.array([ends[e] for e in episode_index]),
+            [names[int(i)] for i in table["task_index"]],
+        )
 
     def rows(self, episodes: np.ndarray) -> np.ndarray:
         return np.flatnonzero(np.isin(self.episode_index, episodes))
@@ -98,8 +104,15 @@ def fit_normalizer(table: FrameTable, rows: np.ndarray, states: list[str]) -> No
 class CachedFrames(Dataset):
     """Frames `rows` of the dataset: images from the decoded-frame cache, vectors and chunks from the table."""
 
-    def __init__(self, table: FrameTable, rows: np.ndarray, images: np.ndarray, cameras: list[str],
-                 states: list[str], chunk: int) -> None:
+    def __init__(
+        self,
+        table: FrameTable,
+        rows: np.ndarray,
+        images: np.ndarray,
+        cameras: list[str],
+        states: list[str],
+        chunk: int,
+    ) -> None:
         self.table, self.rows, self.images = table, rows, images
         self.cameras, self.states, self.chunk_length = cameras, states, chunk
 
@@ -139,8 +152,13 @@ class VLAData:
 
 def _decoded_frames(cfg: VLACfg, fps: int, episodes: np.ndarray) -> LeRobotDataset:
     deltas = {schema.ACTION: [i / fps for i in range(cfg.diffusion.chunk)]}
-    return LeRobotDataset(cfg.data.repo_id, root=cfg.data.root, episodes=episodes.tolist(), delta_timestamps=deltas,
-                          video_backend=cfg.data.video_backend)
+    return LeRobotDataset(
+        cfg.data.repo_id,
+        root=cfg.data.root,
+        episodes=episodes.tolist(),
+        delta_timestamps=deltas,
+        video_backend=cfg.data.video_backend,
+    )
 
 
 def open_data(cfg: VLACfg, image_size: int, progress: bool = True) -> VLAData:
@@ -150,14 +168,18 @@ def open_data(cfg: VLACfg, image_size: int, progress: bool = True) -> VLAData:
     train_eps, heldout_eps = split_episodes(episodes, cfg.data.heldout_episodes, cfg.train.seed)
     table = FrameTable.read(meta, vector_keys(cfg.inputs.states))
     if cfg.data.cache:
-        images = cached_images(Path(cfg.data.root), meta, cfg.inputs.cameras, image_size, cfg.data.video_backend,
-                               progress)
+        images = cached_images(
+            Path(cfg.data.root), meta, cfg.inputs.cameras, image_size, cfg.data.video_backend, progress
+        )
 
         def frames(eps: np.ndarray) -> Dataset:
-            return CachedFrames(table, table.rows(eps), images, cfg.inputs.cameras, cfg.inputs.states,
-                                cfg.diffusion.chunk)
+            return CachedFrames(
+                table, table.rows(eps), images, cfg.inputs.cameras, cfg.inputs.states, cfg.diffusion.chunk
+            )
     else:
+
         def frames(eps: np.ndarray) -> Dataset:
             return _decoded_frames(cfg, meta.fps, eps)
+
     heldout = frames(heldout_eps) if len(heldout_eps) else None
     return VLAData(meta, table, train_eps, heldout_eps, frames(train_eps), heldout)

@@ -25,13 +25,17 @@ def heldout_batch(dataset, frames: int, collate) -> dict[str, torch.Tensor]:
 
 
 @torch.no_grad()
-def diagnose(model: MobileManiVLA, batch: dict[str, torch.Tensor], cfg_scales: list[float]) -> dict[str, float]:
+def diagnose(
+    model: MobileManiVLA, batch: dict[str, torch.Tensor], cfg_scales: list[float]
+) -> dict[str, float]:
     was_training = model.training
     model.eval()
     head, actions = model.head, batch["actions"]
     cognition, state = model.condition(batch)
     generator = torch.Generator(device=actions.device).manual_seed(SEED)
-    t = torch.randint(0, head.cfg.train_timesteps, (actions.shape[0],), generator=generator, device=actions.device)
+    t = torch.randint(
+        0, head.cfg.train_timesteps, (actions.shape[0],), generator=generator, device=actions.device
+    )
     noise = torch.randn(actions.shape, generator=generator, device=actions.device)
     noisy = head.scheduler.add_noise(actions, noise, t)
 
@@ -46,8 +50,13 @@ def diagnose(model: MobileManiVLA, batch: dict[str, torch.Tensor], cfg_scales: l
     if state is not None:
         out["noise_mse/no_state"] = noise_error(False, False)
     for scale in cfg_scales:
-        sampled = head.sample(cognition, state, model.action_dim, torch.Generator(device=actions.device)
-                              .manual_seed(SEED), cfg_scale=scale).clamp(-1.0, 1.0)  # as executed
+        sampled = head.sample(
+            cognition,
+            state,
+            model.action_dim,
+            torch.Generator(device=actions.device).manual_seed(SEED),
+            cfg_scale=scale,
+        ).clamp(-1.0, 1.0)  # as executed
         out[f"open_loop_mse/cfg_{scale:g}"] = F.mse_loss(sampled.float(), actions).item()
         out[f"open_loop_mse_first/cfg_{scale:g}"] = F.mse_loss(sampled[:, 0].float(), actions[:, 0]).item()
     model.train(was_training)

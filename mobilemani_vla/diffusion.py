@@ -13,9 +13,15 @@ from mobilemani_vla.dit import DiT
 
 def make_scheduler(cfg: DiffusionCfg) -> DDIMScheduler:
     # "leading" spacing gives t = 90, 80, ..., 0 for 10 steps, CogACT's "ddim10"; CogACT never clips samples.
-    return DDIMScheduler(num_train_timesteps=cfg.train_timesteps, beta_schedule=cfg.beta_schedule,
-                         prediction_type="epsilon", clip_sample=False, set_alpha_to_one=True, steps_offset=0,
-                         timestep_spacing="leading")
+    return DDIMScheduler(
+        num_train_timesteps=cfg.train_timesteps,
+        beta_schedule=cfg.beta_schedule,
+        prediction_type="epsilon",
+        clip_sample=False,
+        set_alpha_to_one=True,
+        steps_offset=0,
+        timestep_spacing="leading",
+    )
 
 
 class ActionDiffusion(nn.Module):
@@ -29,7 +35,9 @@ class ActionDiffusion(nn.Module):
     def guided(self) -> bool:
         return self.cfg.cfg_dropout > 0
 
-    def loss(self, actions: torch.Tensor, cognition: torch.Tensor, extra: torch.Tensor | None) -> torch.Tensor:
+    def loss(
+        self, actions: torch.Tensor, cognition: torch.Tensor, extra: torch.Tensor | None
+    ) -> torch.Tensor:
         """MSE between predicted and true noise; the batch is tiled r times so one backbone pass yields r
         denoising samples, each with its own t and noise."""
         r = self.cfg.repeated_steps
@@ -46,16 +54,23 @@ class ActionDiffusion(nn.Module):
         return F.mse_loss(pred.float(), noise.float())
 
     @torch.no_grad()
-    def sample(self, cognition: torch.Tensor, extra: torch.Tensor | None, action_dim: int,
-               generator: torch.Generator | None = None, cfg_scale: float | None = None) -> torch.Tensor:
+    def sample(
+        self,
+        cognition: torch.Tensor,
+        extra: torch.Tensor | None,
+        action_dim: int,
+        generator: torch.Generator | None = None,
+        cfg_scale: float | None = None,
+    ) -> torch.Tensor:
         """DDIM (eta 0) from pure noise -> normalised chunk (B, N, A); guidance eps_u + s (eps_c - eps_u) with
         s = `cfg_scale` (default: the config's). The noise is drawn on the generator's device (a CPU generator
         stays reproducible whatever device the model runs on) and moved to the model's."""
         b = cognition.shape[0]
         scale = self.cfg.cfg_scale if cfg_scale is None else cfg_scale
         noise_device = generator.device if generator is not None else cognition.device
-        x = torch.randn(b, self.cfg.chunk, action_dim, generator=generator, device=noise_device,
-                        dtype=cognition.dtype).to(cognition.device)
+        x = torch.randn(
+            b, self.cfg.chunk, action_dim, generator=generator, device=noise_device, dtype=cognition.dtype
+        ).to(cognition.device)
         guide = self.guided and scale != 1.0
         if guide:  # one pass over [conditional, unconditional]
             cognition = torch.cat([cognition, cognition])

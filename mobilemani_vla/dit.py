@@ -14,8 +14,12 @@ import torch.nn.functional as F
 from torch import nn
 
 # (depth, width, heads): CogACT's S/B/L, plus "Ti", the same block stack narrowed for CPU tests.
-DIT_PRESETS: dict[str, tuple[int, int, int]] = {"Ti": (4, 128, 4), "S": (6, 384, 4), "B": (12, 768, 12),
-                                              "L": (24, 1024, 16)}
+DIT_PRESETS: dict[str, tuple[int, int, int]] = {
+    "Ti": (4, 128, 4),
+    "S": (6, 384, 4),
+    "B": (12, 768, 12),
+    "L": (24, 1024, 16),
+}
 
 
 class TimestepEmbedder(nn.Module):
@@ -28,7 +32,9 @@ class TimestepEmbedder(nn.Module):
 
     def forward(self, t: torch.Tensor) -> torch.Tensor:
         half = self.frequency_dim // 2
-        freqs = torch.exp(-math.log(10000.0) * torch.arange(half, device=t.device, dtype=torch.float32) / half)
+        freqs = torch.exp(
+            -math.log(10000.0) * torch.arange(half, device=t.device, dtype=torch.float32) / half
+        )
         args = t.float()[:, None] * freqs[None]
         return self.mlp(torch.cat([torch.cos(args), torch.sin(args)], dim=-1).to(self.mlp[0].weight.dtype))
 
@@ -45,7 +51,9 @@ class CognitionEmbedder(nn.Module):
     def forward(self, cognition: torch.Tensor, drop: torch.Tensor | None = None) -> torch.Tensor:
         if drop is not None:
             if self.null is None:
-                raise ValueError("condition dropout needs a head built with guidance (diffusion.cfg_dropout > 0)")
+                raise ValueError(
+                    "condition dropout needs a head built with guidance (diffusion.cfg_dropout > 0)"
+                )
             cognition = torch.where(drop[:, None], self.null.to(cognition.dtype), cognition)
         return self.proj(cognition)
 
@@ -73,7 +81,9 @@ class Block(nn.Module):
         self.norm1 = nn.LayerNorm(width, elementwise_affine=False, eps=1e-6)
         self.attn = Attention(width, heads)
         self.norm2 = nn.LayerNorm(width, elementwise_affine=False, eps=1e-6)
-        self.mlp = nn.Sequential(nn.Linear(width, hidden), nn.GELU(approximate="tanh"), nn.Linear(hidden, width))
+        self.mlp = nn.Sequential(
+            nn.Linear(width, hidden), nn.GELU(approximate="tanh"), nn.Linear(hidden, width)
+        )
 
     def forward(self, x: torch.Tensor) -> torch.Tensor:
         x = x + self.attn(self.norm1(x))
@@ -104,8 +114,14 @@ class DiT(nn.Module):
         nn.init.zeros_(self.out.weight)  # the head starts by predicting zero noise
         nn.init.zeros_(self.out.bias)
 
-    def forward(self, noisy: torch.Tensor, t: torch.Tensor, cognition: torch.Tensor,
-                extra: torch.Tensor | None = None, drop: torch.Tensor | None = None) -> torch.Tensor:
+    def forward(
+        self,
+        noisy: torch.Tensor,
+        t: torch.Tensor,
+        cognition: torch.Tensor,
+        extra: torch.Tensor | None = None,
+        drop: torch.Tensor | None = None,
+    ) -> torch.Tensor:
         """noisy (B, N, A), t (B,), cognition (B, cond_dim), extra (B, width) e.g. a state feature -> eps (B, N, A)."""
         cond = self.t_embed(t) + self.cond_embed(cognition, drop)
         if extra is not None:

@@ -16,7 +16,9 @@ from mobilemani_vla.ensemble import EnsembleCfg
 class PolicyCfg:
     kind: str = "vla"  # vla | lerobot | teacher | scripted | random
     checkpoint: str | None = None  # vla: checkpoint dir; lerobot: pretrained_model dir; teacher: model_*.pt
-    runs_dir: str = "runs/rl"  # teacher without a checkpoint: newest <runs_dir>/<robot>/<object or category>/<skill>
+    runs_dir: str = (
+        "runs/rl"  # teacher without a checkpoint: newest <runs_dir>/<robot>/<object or category>/<skill>
+    )
     device: str = "cpu"
     batch_size: int = 16  # model policies: envs per forward pass
     rename: dict[str, str] = field(default_factory=dict)  # lerobot: our feature name -> the policy's
@@ -32,10 +34,14 @@ class EvalCfg:
     output_dir: str = "results/eval"
     policy: PolicyCfg = field(default_factory=PolicyCfg)
     subset: SubsetCfg = field(default_factory=lambda: SubsetCfg(split="test"))  # `episodes` per combination
-    episodes_per_batch: int = 10  # episodes run together (at most subset.episodes); seeds are per block of this size
+    episodes_per_batch: int = (
+        10  # episodes run together (at most subset.episodes); seeds are per block of this size
+    )
     seed: int = 0  # mixed with (robot, object, skill, scene, block) into each batch's env seed
     ensemble: EnsembleCfg = field(default_factory=EnsembleCfg)
-    action_convention: str = "conjugate"  # base-frame action encoding of the training data (base_frame.Convention)
+    action_convention: str = (
+        "conjugate"  # base-frame action encoding of the training data (base_frame.Convention)
+    )
     # Rendered (height, width); null: the size the policy's training images had (VLA checkpoints record it), else
     # DEFAULT_IMAGE_SIZE.
     image_size: list[int] | None = None
@@ -61,10 +67,16 @@ def eval_cfg_from_hydra(cfg: DictConfig) -> EvalCfg:
     task = plain.pop("task")
     env = env_cfg_from_hydra(OmegaConf.create({"env": plain.pop("env"), "task": task}))
     env.reset.recording = True  # realistic scenes, as the dataset was recorded (docs/reference.md §8b)
-    out: EvalCfg = OmegaConf.to_object(OmegaConf.merge(OmegaConf.structured(EvalCfg),
-                                                       {**plain, "robot": task["robot"]}))
+    out: EvalCfg = OmegaConf.to_object(
+        OmegaConf.merge(OmegaConf.structured(EvalCfg), {**plain, "robot": task["robot"]})
+    )
     out.env = env
-    check_positive({"subset.episodes": out.subset.episodes, "episodes_per_batch": out.episodes_per_batch,
-                    "subset.scenes_per_object": out.subset.scenes_per_object,
-                    "subset.objects_per_category": out.subset.objects_per_category})
+    check_positive(
+        {
+            "subset.episodes": out.subset.episodes,
+            "episodes_per_batch": out.episodes_per_batch,
+            "subset.scenes_per_object": out.subset.scenes_per_object,
+            "subset.objects_per_category": out.subset.objects_per_category,
+        }
+    )
     return out

@@ -48,55 +48,97 @@ def run_dir(cfg: EvalCfg) -> Path:
 def evaluate_block(cfg: EvalCfg, policy: EvalPolicy, combo: Combination, block: int) -> list[dict]:
     size = cfg.batch_size
     seed = batch_seed(combo, cfg.seed, block)
-    env = MobileManiEnv(recording_env_cfg(cfg.env, TaskCfg(combo.robot, combo.object_id, combo.skill, combo.scene),
-                                          size, seed))
-    recorder = HeadCameraRecorder(env, cfg.video_episodes - block * size) \
-        if cfg.video_episodes > block * size else None
+    env = MobileManiEnv(
+        recording_env_cfg(
+            cfg.env, TaskCfg(combo.robot, combo.object_id, combo.skill, combo.scene), size, seed
+        )
+    )
+    recorder = (
+        HeadCameraRecorder(env, cfg.video_episodes - block * size)
+        if cfg.video_episodes > block * size
+        else None
+    )
     image_size = tuple(cfg.image_size or policy.image_size or DEFAULT_IMAGE_SIZE)
-    stats = run_batch(env, policy, seed, combo.instruction, cfg.ensemble, image_size,
-                      cfg.action_convention, recorder)
+    stats = run_batch(
+        env, policy, seed, combo.instruction, cfg.ensemble, image_size, cfg.action_convention, recorder
+    )
     if recorder is not None:
-        recorder.write(run_dir(cfg) / "videos" / cfg.split_name / combo.name.replace("/", "_") / f"block_{block}")
+        recorder.write(
+            run_dir(cfg) / "videos" / cfg.split_name / combo.name.replace("/", "_") / f"block_{block}"
+        )
     returns = sum(stats.reward_terms.values())
-    return [{"robot": combo.robot, "object_id": combo.object_id, "category": combo.category, "skill": combo.skill,
-             "scene": combo.scene, "split": combo.split, "scene_split": combo.scene_split,
-             "instruction": combo.instruction, "policy": policy.name, "episode": block * size + slot,
-             "seed": seed, "slot": slot, "success": bool(stats.success[slot]), "length": int(stats.length[slot]),
-             "return": float(returns[slot]), "nan_actions": int(stats.nan_actions[slot])} for slot in range(size)]
+    return [
+        {
+            "robot": combo.robot,
+            "object_id": combo.object_id,
+            "category": combo.category,
+            "skill": combo.skill,
+            "scene": combo.scene,
+            "split": combo.split,
+            "scene_split": combo.scene_split,
+            "instruction": combo.instruction,
+            "policy": policy.name,
+            "episode": block * size + slot,
+            "seed": seed,
+            "slot": slot,
+            "success": bool(stats.success[slot]),
+            "length": int(stats.length[slot]),
+            "return": float(returns[slot]),
+            "nan_actions": int(stats.nan_actions[slot]),
+        }
+        for slot in range(size)
+    ]
 
 
 def evaluate(cfg: EvalCfg, policy: EvalPolicy | None = None) -> dict:
     """Run every missing episode of the selected protocol; returns the summary of the results file."""
     size = cfg.batch_size
     if cfg.subset.episodes % size:
-        raise ValueError(f"subset.episodes ({cfg.subset.episodes}) must be a multiple of episodes_per_batch "
-                         f"({size}) so that every episode keeps its seed")
+        raise ValueError(
+            f"subset.episodes ({cfg.subset.episodes}) must be a multiple of episodes_per_batch "
+            f"({size}) so that every episode keeps its seed"
+        )
     combos = select_combinations(cfg.robot, cfg.subset)
     policy = policy or build_policy(cfg.policy)
     expected = get_robot(cfg.robot).action_dim
     if policy.action_dim not in (None, expected):
-        raise ValueError(f"{policy.name} predicts {policy.action_dim}-d actions but robot={cfg.robot} takes "
-                         f"{expected}-d ones; evaluate it with the robot it was trained for")
+        raise ValueError(
+            f"{policy.name} predicts {policy.action_dim}-d actions but robot={cfg.robot} takes "
+            f"{expected}-d ones; evaluate it with the robot it was trained for"
+        )
     out = run_dir(cfg)
     results = ResultsFile(out / f"{cfg.split_name}.jsonl")
-    write_json_atomic(out / "config.json", {"eval": OmegaConf.to_container(OmegaConf.structured(cfg)),
-                                            "policy_inputs": sorted(policy.inputs)})
-    todo = [(k, combo, block) for k, combo in enumerate(combos) for block in range(cfg.subset.episodes // size)
-            if not {(combo.robot, combo.object_id, combo.skill, combo.scene, block * size + s)
-                    for s in range(size)} <= results.done]
+    write_json_atomic(
+        out / "config.json",
+        {"eval": OmegaConf.to_container(OmegaConf.structured(cfg)), "policy_inputs": sorted(policy.inputs)},
+    )
+    todo = [
+        (k, combo, block)
+        for k, combo in enumerate(combos)
+        for block in range(cfg.subset.episodes // size)
+        if not {
+            (combo.robot, combo.object_id, combo.skill, combo.scene, block * size + s) for s in range(size)
+        }
+        <= results.done
+    ]
     total = len(combos) * cfg.subset.episodes
     # Up front, since the paper protocol on a CPU runs for hours: what there is to do and what a rerun skips.
-    print(f"{policy.name} on {cfg.split_name}: {len(combos)} combinations x {cfg.subset.episodes} episodes = "
-          f"{total} episodes; {total - len(todo) * size} done, {len(todo) * size} to run in batches of {size}",
-          flush=True)
+    print(
+        f"{policy.name} on {cfg.split_name}: {len(combos)} combinations x {cfg.subset.episodes} episodes = "
+        f"{total} episodes; {total - len(todo) * size} done, {len(todo) * size} to run in batches of {size}",
+        flush=True,
+    )
     progress = Progress(len(todo) * size, "episodes")
     for k, combo, block in todo:
         start = time.perf_counter()
         records = evaluate_block(cfg, policy, combo, block)
         results.append(records)
         rate = sum(r["success"] for r in records) / len(records)
-        print(f"[{k + 1}/{len(combos)}] {combo.name} block {block}: success {rate:.2f} "
-              f"({time.perf_counter() - start:.1f} s) | {progress.advance(size)}", flush=True)
+        print(
+            f"[{k + 1}/{len(combos)}] {combo.name} block {block}: success {rate:.2f} "
+            f"({time.perf_counter() - start:.1f} s) | {progress.advance(size)}",
+            flush=True,
+        )
     summary = summarize(read_records(results.path))
     write_json_atomic(out / f"{cfg.split_name}.summary.json", summary)
     return summary

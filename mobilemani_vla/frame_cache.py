@@ -43,7 +43,9 @@ def cache_dir(root: Path, cameras: list[str], size: int) -> Path:
     return root / CACHE_DIR / f"{'+'.join(cameras)}_{size}px"
 
 
-def _decode_episode(root: Path, meta: LeRobotDatasetMetadata, episode: dict, camera: str, backend: str) -> torch.Tensor:
+def _decode_episode(
+    root: Path, meta: LeRobotDatasetMetadata, episode: dict, camera: str, backend: str
+) -> torch.Tensor:
     """All frames of one episode's camera stream, (length, 3, H, W) uint8."""
     key = camera_key(camera)
     start = episode[f"videos/{key}/from_timestamp"]
@@ -52,28 +54,51 @@ def _decode_episode(root: Path, meta: LeRobotDatasetMetadata, episode: dict, cam
     return decode_video_frames(path, timestamps, TOLERANCE_S, backend, return_uint8=True)
 
 
-def _build(root: Path, meta: LeRobotDatasetMetadata, cameras: list[str], size: int, backend: str, target: Path,
-           fingerprint: str, progress: bool) -> None:
+def _build(
+    root: Path,
+    meta: LeRobotDatasetMetadata,
+    cameras: list[str],
+    size: int,
+    backend: str,
+    target: Path,
+    fingerprint: str,
+    progress: bool,
+) -> None:
     tmp = target.with_name(target.name + ".partial")
     shutil.rmtree(tmp, ignore_errors=True)
     tmp.mkdir(parents=True)
-    images = np.lib.format.open_memmap(tmp / IMAGES, mode="w+", dtype=np.uint8,
-                                       shape=(meta.total_frames, len(cameras), 3, size, size))
-    for episode in tqdm(meta.episodes, desc=f"frame cache {target.name}", unit="episode", disable=not progress):
+    images = np.lib.format.open_memmap(
+        tmp / IMAGES, mode="w+", dtype=np.uint8, shape=(meta.total_frames, len(cameras), 3, size, size)
+    )
+    for episode in tqdm(
+        meta.episodes, desc=f"frame cache {target.name}", unit="episode", disable=not progress
+    ):
         rows = slice(episode["dataset_from_index"], episode["dataset_to_index"])
         for k, camera in enumerate(cameras):
-            frames = resize_images(_decode_episode(root, meta, episode, camera, backend).float() / 255.0, size)
+            frames = resize_images(
+                _decode_episode(root, meta, episode, camera, backend).float() / 255.0, size
+            )
             images[rows, k] = (frames * 255.0).round().clamp(0, 255).to(torch.uint8).numpy()
     images.flush()
     del images
-    (tmp / MANIFEST).write_text(json.dumps({"fingerprint": fingerprint, "cameras": cameras, "size": size,
-                                            "frames": meta.total_frames}, indent=1))
+    (tmp / MANIFEST).write_text(
+        json.dumps(
+            {"fingerprint": fingerprint, "cameras": cameras, "size": size, "frames": meta.total_frames},
+            indent=1,
+        )
+    )
     shutil.rmtree(target, ignore_errors=True)
     tmp.rename(target)
 
 
-def cached_images(root: Path, meta: LeRobotDatasetMetadata, cameras: list[str], size: int, backend: str = "pyav",
-                  progress: bool = True) -> np.ndarray:
+def cached_images(
+    root: Path,
+    meta: LeRobotDatasetMetadata,
+    cameras: list[str],
+    size: int,
+    backend: str = "pyav",
+    progress: bool = True,
+) -> np.ndarray:
     """(frames, len(cameras), 3, size, size) uint8 in dataset index order; built on first use or when the
     dataset changed, otherwise read from disk."""
     target = cache_dir(root, cameras, size)

@@ -18,9 +18,16 @@ from mobilemani_vla.observe import ObservationBuilder
 from mobilemani_vla.policies.base import EvalPolicy
 
 
-def run_batch(env: MobileManiEnv, policy: EvalPolicy, seed: int, instruction: str, ensemble: EnsembleCfg,
-              image_size: tuple[int, int] = (224, 224), convention: Convention = "conjugate",
-              on_step: Callable[[StepResult], None] | None = None) -> EpisodeStats:
+def run_batch(
+    env: MobileManiEnv,
+    policy: EvalPolicy,
+    seed: int,
+    instruction: str,
+    ensemble: EnsembleCfg,
+    image_size: tuple[int, int] = (224, 224),
+    convention: Convention = "conjugate",
+    on_step: Callable[[StepResult], None] | None = None,
+) -> EpisodeStats:
     """Reset `env` with `seed` and run the first episode of each of its envs under `policy`."""
     height, width = image_size
     builder = ObservationBuilder(env, policy.inputs, instruction, width, height)

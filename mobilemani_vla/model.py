@@ -30,14 +30,18 @@ class MobileManiVLA(nn.Module):
         super().__init__()
         self.action_dim = cfg.action_dim
         self.backbone = backbone
-        dit = DiT(cfg.model.dit, cfg.action_dim, cfg.diffusion.chunk, backbone.width, cfg.diffusion.cfg_dropout > 0)
+        dit = DiT(
+            cfg.model.dit, cfg.action_dim, cfg.diffusion.chunk, backbone.width, cfg.diffusion.cfg_dropout > 0
+        )
         state_dim = sum(STATE_DIMS[s] for s in cfg.inputs.states)
         self.state_encoder = StateEncoder(state_dim, dit.width) if state_dim else None
         self.head = ActionDiffusion(dit, cfg.diffusion)
 
     def condition(self, batch: dict[str, torch.Tensor]) -> tuple[torch.Tensor, torch.Tensor | None]:
         head_dtype = self.head.dit.pos_embed.dtype  # a bfloat16 backbone feeds a float32 head
-        cognition = self.backbone(batch["pixel_values"], batch["input_ids"], batch["attention_mask"]).to(head_dtype)
+        cognition = self.backbone(batch["pixel_values"], batch["input_ids"], batch["attention_mask"]).to(
+            head_dtype
+        )
         state = None if self.state_encoder is None else self.state_encoder(batch["state"].to(head_dtype))
         return cognition, state
 
@@ -47,20 +51,25 @@ class MobileManiVLA(nn.Module):
         return self.head.loss(batch["actions"], cognition, state)
 
     @torch.no_grad()
-    def predict(self, batch: dict[str, torch.Tensor], generator: torch.Generator | None = None) -> torch.Tensor:
+    def predict(
+        self, batch: dict[str, torch.Tensor], generator: torch.Generator | None = None
+    ) -> torch.Tensor:
         """Normalised action chunks (B, N, A)."""
         cognition, state = self.condition(batch)
         return self.head.sample(cognition, state, self.action_dim, generator)
 
 
-def build_model(cfg: VLACfg, tokenizer: PreTrainedTokenizerBase,
-                backbone_config: PaliGemmaConfig | None = None) -> MobileManiVLA:
+def build_model(
+    cfg: VLACfg, tokenizer: PreTrainedTokenizerBase, backbone_config: PaliGemmaConfig | None = None
+) -> MobileManiVLA:
     """From a saved backbone config (checkpoint reload), a local pretrained directory, or the model config.
     Call under `torch.device("meta")` to get the architecture without allocating weights."""
     if backbone_config is not None:
         vlm = PaliGemmaModel(backbone_config)
     elif cfg.model.pretrained_path is not None:
-        vlm = load_paligemma(cfg.model.pretrained_path, cfg.model.attn_implementation, getattr(torch, cfg.model.dtype))
+        vlm = load_paligemma(
+            cfg.model.pretrained_path, cfg.model.attn_implementation, getattr(torch, cfg.model.dtype)
+        )
     else:
         vlm = PaliGemmaModel(paligemma_config(cfg.model))
     vocab = vlm.config.text_config.vocab_size

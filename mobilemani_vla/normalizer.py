@@ -19,9 +19,12 @@ EPS = 1e-8
 
 
 class Normalizer:
-    def __init__(self, bounds: Mapping[str, tuple[list[float] | np.ndarray, list[float] | np.ndarray]]) -> None:
-        self.bounds = {key: (np.asarray(lo, np.float32), np.asarray(hi, np.float32))
-                       for key, (lo, hi) in bounds.items()}
+    def __init__(
+        self, bounds: Mapping[str, tuple[list[float] | np.ndarray, list[float] | np.ndarray]]
+    ) -> None:
+        self.bounds = {
+            key: (np.asarray(lo, np.float32), np.asarray(hi, np.float32)) for key, (lo, hi) in bounds.items()
+        }
 
     @classmethod
     def fit(cls, values: Mapping[str, np.ndarray]) -> Normalizer:

@@ -15,24 +15,40 @@ from mobilemani_rl.render import CameraRenderCfg, CameraRenderer
 from mobilemani_vla.policies.base import ACTIVE, PRIVILEGED_STATE, TASK, Observation
 
 IMAGE_KEYS = {schema.image_key(c, m): (c, m) for c in schema.CAMERAS for m in schema.MODALITIES}
-VECTOR_KEYS = (schema.STATE, schema.WORLD_STATE, schema.GRASP_POINT_BASE, schema.GOAL_POINT_BASE, PRIVILEGED_STATE)
+VECTOR_KEYS = (
+    schema.STATE,
+    schema.WORLD_STATE,
+    schema.GRASP_POINT_BASE,
+    schema.GOAL_POINT_BASE,
+    PRIVILEGED_STATE,
+)
 KNOWN_KEYS = frozenset(IMAGE_KEYS) | frozenset(VECTOR_KEYS) | {TASK}
 
 
 class ObservationBuilder:
-    def __init__(self, env: MobileManiEnv, inputs: frozenset[str], instruction: str, width: int,
-                 height: int) -> None:
+    def __init__(
+        self, env: MobileManiEnv, inputs: frozenset[str], instruction: str, width: int, height: int
+    ) -> None:
         unknown = sorted(inputs - KNOWN_KEYS)
         if unknown:
-            raise KeyError(f"the policy asks for unknown inputs {unknown}; the evaluator provides {sorted(KNOWN_KEYS)}")
+            raise KeyError(
+                f"the policy asks for unknown inputs {unknown}; the evaluator provides {sorted(KNOWN_KEYS)}"
+            )
         self.env, self.inputs, self.instruction = env, inputs, instruction
         self.images = sorted(inputs & IMAGE_KEYS.keys())
         mj_cameras = robot_cameras(env.robot)
-        self.cameras = {camera: mj_cameras[camera] for camera in sorted({IMAGE_KEYS[k][0] for k in self.images})}
+        self.cameras = {
+            camera: mj_cameras[camera] for camera in sorted({IMAGE_KEYS[k][0] for k in self.images})
+        }
         segmentation = any(IMAGE_KEYS[k][1] == "seg" for k in self.images)
-        self.renderer = CameraRenderer(env.model, CameraRenderCfg(width, height, tuple(self.cameras.values()),
-                                                                  segmentation=segmentation)) \
-            if self.cameras else None
+        self.renderer = (
+            CameraRenderer(
+                env.model,
+                CameraRenderCfg(width, height, tuple(self.cameras.values()), segmentation=segmentation),
+            )
+            if self.cameras
+            else None
+        )
         self.width, self.height = width, height
         self.grasp0 = np.zeros((env.num_envs, 3))
 
@@ -40,8 +56,15 @@ class ObservationBuilder:
         env, f = self.env, self.env.frames
         started = env.env_times == 0  # the grasp point is taken at reset, like the exporter's first frame
         self.grasp0[started] = f.grasp_pos[started]
-        state = FrameState(f.hand_pos, f.hand_quat, f.base_pos, f.base_quat,
-                           f.joint_pos[:, -len(env.robot.hand_joints):], self.grasp0, env.goal_pos)
+        state = FrameState(
+            f.hand_pos,
+            f.hand_quat,
+            f.base_pos,
+            f.base_quat,
+            f.joint_pos[:, -len(env.robot.hand_joints) :],
+            self.grasp0,
+            env.goal_pos,
+        )
         obs: Observation = {k: v for k, v in frame_vectors(state).items() if k in self.inputs}
         if PRIVILEGED_STATE in self.inputs:
             obs[PRIVILEGED_STATE] = np.asarray(env.obs, np.float32)

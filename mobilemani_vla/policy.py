@@ -15,8 +15,9 @@ from mobilemani_vla.processor import VLAProcessor, camera_key, state_features
 
 
 class VLAPolicy:
-    def __init__(self, cfg: VLACfg, model: MobileManiVLA, processor: VLAProcessor,
-                 device: str | torch.device = "cpu") -> None:
+    def __init__(
+        self, cfg: VLACfg, model: MobileManiVLA, processor: VLAProcessor, device: str | torch.device = "cpu"
+    ) -> None:
         self.cfg = cfg
         self.model = model.to(device).eval()
         self.processor = processor
@@ -25,8 +26,14 @@ class VLAPolicy:
     @classmethod
     def load(cls, checkpoint: str | Path, device: str | torch.device = "cpu") -> VLAPolicy:
         cfg, model, normalizer, tokenizer = load_checkpoint(checkpoint, device)
-        processor = VLAProcessor(tokenizer, normalizer, cfg.inputs.cameras, cfg.inputs.states,
-                                 model.backbone.image_size, cfg.model.prompt)
+        processor = VLAProcessor(
+            tokenizer,
+            normalizer,
+            cfg.inputs.cameras,
+            cfg.inputs.states,
+            model.backbone.image_size,
+            cfg.model.prompt,
+        )
         return cls(cfg, model, processor, device)
 
     @property
@@ -38,27 +45,47 @@ class VLAPolicy:
         """The dataset's vector features this policy's state inputs are read from."""
         return state_features(self.cfg.inputs.states)
 
-    def predict_action_chunk(self, images: dict[str, np.ndarray], instruction: str, vectors: dict[str, np.ndarray],
-                             generator: torch.Generator | None = None) -> np.ndarray:
+    def predict_action_chunk(
+        self,
+        images: dict[str, np.ndarray],
+        instruction: str,
+        vectors: dict[str, np.ndarray],
+        generator: torch.Generator | None = None,
+    ) -> np.ndarray:
         """images: camera name ("head_rgb", "wrist_depth", ...) -> (H, W, 3) uint8, at least this policy's
         cameras; vectors: dataset feature name -> (d,) values, at least `vector_inputs` (the frame builder,
         mobilemani_data.frame, makes both). Returns (chunk, action_dim) base-frame actions in the dataset's units."""
         batched = {c: np.asarray(v)[None] for c, v in images.items()}
-        return self.predict_action_chunks(batched, [instruction], {k: np.asarray(v)[None] for k, v in vectors.items()},
-                                          generator)[0]
+        return self.predict_action_chunks(
+            batched, [instruction], {k: np.asarray(v)[None] for k, v in vectors.items()}, generator
+        )[0]
 
-    def predict_action_chunks(self, images: dict[str, np.ndarray], instructions: list[str],
-                              vectors: dict[str, np.ndarray], generator: torch.Generator | None = None) -> np.ndarray:
+    def predict_action_chunks(
+        self,
+        images: dict[str, np.ndarray],
+        instructions: list[str],
+        vectors: dict[str, np.ndarray],
+        generator: torch.Generator | None = None,
+    ) -> np.ndarray:
         """Batched `predict_action_chunk`: images (B, H, W, 3), B instructions, vectors (B, d) -> (B, chunk, A)."""
-        missing = [c for c in self.cameras if c not in images] + [k for k in self.vector_inputs if k not in vectors]
+        missing = [c for c in self.cameras if c not in images] + [
+            k for k in self.vector_inputs if k not in vectors
+        ]
         if missing:
-            raise KeyError(f"missing inputs {missing}; this policy reads cameras {self.cameras} and vectors "
-                           f"{self.vector_inputs}")
+            raise KeyError(
+                f"missing inputs {missing}; this policy reads cameras {self.cameras} and vectors "
+                f"{self.vector_inputs}"
+            )
         frames = []
         for i, instruction in enumerate(instructions):
-            frame = {camera_key(c): torch.from_numpy(np.ascontiguousarray(images[c][i])).permute(2, 0, 1).float()
-                     / 255.0 for c in self.cameras}
-            frame.update({k: torch.from_numpy(np.asarray(vectors[k][i], np.float32)) for k in self.vector_inputs})
+            frame = {
+                camera_key(c): torch.from_numpy(np.ascontiguousarray(images[c][i])).permute(2, 0, 1).float()
+                / 255.0
+                for c in self.cameras
+            }
+            frame.update(
+                {k: torch.from_numpy(np.asarray(vectors[k][i], np.float32)) for k in self.vector_inputs}
+            )
             frame["task"] = instruction
             frames.append(frame)
         batch = {k: v.to(self.device) for k, v in self.processor(frames).items()}

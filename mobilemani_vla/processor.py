@@ -18,9 +18,11 @@ from mobilemani_vla.normalizer import Normalizer
 
 # Each state input -> (the dataset feature holding it, its part of that feature). Normalisation bounds are per
 # feature, so a part is normalised with its feature's bounds.
-STATE_SOURCES = {"wrist_pose": (schema.STATE, slice(0, schema.WRIST_POSE_DIM)),
-                 "grasp_point": (schema.GRASP_POINT_BASE, slice(0, 3)),
-                 "goal_point": (schema.GOAL_POINT_BASE, slice(0, 3))}
+STATE_SOURCES = {
+    "wrist_pose": (schema.STATE, slice(0, schema.WRIST_POSE_DIM)),
+    "grasp_point": (schema.GRASP_POINT_BASE, slice(0, 3)),
+    "goal_point": (schema.GOAL_POINT_BASE, slice(0, 3)),
+}
 STATE_DIMS = {name: part.stop - part.start for name, (_, part) in STATE_SOURCES.items()}
 WRIST_DELTA_DIMS = 6  # action[0:6] are wrist deltas; action[6:] absolute gripper/hand targets
 
@@ -62,8 +64,10 @@ class VLAProcessor:
     def __post_init__(self) -> None:
         needed = [schema.ACTION, *state_features(self.states)]
         if missing := [k for k in needed if k not in self.normalizer.bounds]:
-            raise KeyError(f"the normalisation bounds have no {missing} (they hold {sorted(self.normalizer.bounds)}): "
-                           "the checkpoint was trained on an older dataset layout; retrain it on a current export")
+            raise KeyError(
+                f"the normalisation bounds have no {missing} (they hold {sorted(self.normalizer.bounds)}): "
+                "the checkpoint was trained on an older dataset layout; retrain it on a current export"
+            )
 
     @property
     def state_dim(self) -> int:
@@ -71,12 +75,15 @@ class VLAProcessor:
 
     def images(self, frame: dict) -> torch.Tensor:
         """Selected cameras, each (3, H, W) uint8 or float in [0, 1] -> (K, 3, S, S) float."""
-        return resize_images(torch.stack([as_unit_float(frame[camera_key(c)]) for c in self.cameras]),
-                             self.image_size)
+        return resize_images(
+            torch.stack([as_unit_float(frame[camera_key(c)]) for c in self.cameras]), self.image_size
+        )
 
     def state(self, frame: dict) -> torch.Tensor:
-        parts = [self.normalizer.normalize(key, torch.as_tensor(frame[key]))[..., part]
-                 for key, part in (STATE_SOURCES[s] for s in self.states)]
+        parts = [
+            self.normalizer.normalize(key, torch.as_tensor(frame[key]))[..., part]
+            for key, part in (STATE_SOURCES[s] for s in self.states)
+        ]
         return torch.cat(parts, dim=-1)
 
     def actions(self, frame: dict) -> torch.Tensor:
@@ -96,8 +103,10 @@ class VLAProcessor:
 
     def __call__(self, frames: list[dict]) -> dict[str, torch.Tensor]:
         """Collate frames; actions are included when the frames carry them (training)."""
-        batch = {"pixel_values": torch.stack([self.images(f) for f in frames]),
-                 **self.tokenize([f["task"] for f in frames])}
+        batch = {
+            "pixel_values": torch.stack([self.images(f) for f in frames]),
+            **self.tokenize([f["task"] for f in frames]),
+        }
         if self.states:
             batch["state"] = torch.stack([self.state(f) for f in frames])
         if schema.ACTION in frames[0]:

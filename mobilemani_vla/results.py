@@ -18,8 +18,13 @@ import numpy as np
 
 Key = tuple[str, str, str, str, int]
 # The paper's per-category table groups skills by their motion: grasp-and-move vs. push-to-close.
-SKILL_GROUPS = {"open": "open/pull/pick", "pull": "open/pull/pick", "pick": "open/pull/pick",
-                "close": "close/push", "push": "close/push"}
+SKILL_GROUPS = {
+    "open": "open/pull/pick",
+    "pull": "open/pull/pick",
+    "pick": "open/pull/pick",
+    "close": "close/push",
+    "push": "close/push",
+}
 
 
 def record_key(record: dict) -> Key:
@@ -51,7 +56,7 @@ class ResultsFile:
         data = self.path.read_bytes()
         if data and not data.endswith(b"\n"):
             tmp = self.path.with_name(self.path.name + ".tmp")
-            tmp.write_bytes(data[:data.rfind(b"\n") + 1])
+            tmp.write_bytes(data[: data.rfind(b"\n") + 1])
             os.replace(tmp, self.path)
 
     def append(self, records: Iterable[dict]) -> int:
@@ -71,8 +76,12 @@ def _over_objects(records: list[dict]) -> dict:
     for r in records:
         per_object[r["object_id"]].append(bool(r["success"]))
     rates = np.array([np.mean(v) for v in per_object.values()])
-    return {"success_rate": float(rates.mean()), "std_over_objects": float(rates.std()),
-            "objects": len(rates), "episodes": len(records)}
+    return {
+        "success_rate": float(rates.mean()),
+        "std_over_objects": float(rates.std()),
+        "objects": len(rates),
+        "episodes": len(records),
+    }
 
 
 def _grouped(records: list[dict], key) -> dict[str, dict]:
@@ -89,7 +98,9 @@ def summarize(records: list[dict]) -> dict:
         "overall": _over_objects(records),
         "per_skill": _grouped(records, lambda r: r["skill"]),
         "per_category": _grouped(records, lambda r: r["category"]),
-        "per_category_skill_group": _grouped(records, lambda r: f"{r['category']}|{SKILL_GROUPS[r['skill']]}"),
+        "per_category_skill_group": _grouped(
+            records, lambda r: f"{r['category']}|{SKILL_GROUPS[r['skill']]}"
+        ),
         "episodes": len(records),
         # NaN action entries the policy produced (the env applies them as 0, as the reference does)
         "nan_action_entries": sum(r.get("nan_actions", 0) for r in records),

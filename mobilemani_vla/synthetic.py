@@ -24,35 +24,57 @@ def _image(phase: float, channel: int, height: int, width: int) -> np.ndarray:
     size = max(2, min(height, width) // 4)
     y = int(phase * (height - size))
     x = int((1.0 - phase) * (width - size))
-    img[y:y + size, x:x + size] = 230
+    img[y : y + size, x : x + size] = 230
     return img
 
 
-def write_synthetic_dataset(root: Path, robot: str = "g1", episodes: int = 1, length: int = 30,
-                            height: int = 48, width: int = 64, seed: int = 0) -> Path:
+def write_synthetic_dataset(
+    root: Path,
+    robot: str = "g1",
+    episodes: int = 1,
+    length: int = 30,
+    height: int = 48,
+    width: int = 64,
+    seed: int = 0,
+) -> Path:
     action_dim = ROBOT_ACTION_DIMS[robot]
     hand = action_dim - 6
     rng = np.random.default_rng(seed)
-    ds = LeRobotDataset.create(repo_id=f"synthetic/{robot}", fps=schema.FPS, root=root, use_videos=True,
-                               features=schema.features(action_dim, hand, height, width))
+    ds = LeRobotDataset.create(
+        repo_id=f"synthetic/{robot}",
+        fps=schema.FPS,
+        root=root,
+        use_videos=True,
+        features=schema.features(action_dim, hand, height, width),
+    )
     for episode in range(episodes):
         offset = rng.uniform(-1.0, 1.0, size=3).astype(np.float32)
         for i in range(length):
             phase = i / max(1, length - 1)
             wave = np.sin(2 * np.pi * (phase + np.arange(action_dim) / action_dim)).astype(np.float32)
-            frame = {schema.image_key(c, m): _image(phase, k, height, width)
-                     for k, (c, m) in enumerate((c, m) for c in schema.CAMERAS for m in schema.MODALITIES)}
-            frame.update({
-                schema.STATE: np.concatenate(
-                    [[0.4 + 0.2 * phase, 0.1, 0.8 - 0.1 * phase], rotation_6d(quat_from_euler(np.array([0.0, phase, 0.0]))),
-                     np.zeros(hand)]).astype(np.float32),
-                schema.ACTION: wave,
-                schema.WORLD_STATE: np.concatenate([np.full(12, phase), np.zeros(hand)]).astype(np.float32),
-                schema.WORLD_ACTION: wave,
-                schema.GRASP_POINT_BASE: offset,
-                schema.GOAL_POINT_BASE: offset + np.float32(0.1),
-                "task": TASKS[episode % len(TASKS)],
-            })
+            frame = {
+                schema.image_key(c, m): _image(phase, k, height, width)
+                for k, (c, m) in enumerate((c, m) for c in schema.CAMERAS for m in schema.MODALITIES)
+            }
+            frame.update(
+                {
+                    schema.STATE: np.concatenate(
+                        [
+                            [0.4 + 0.2 * phase, 0.1, 0.8 - 0.1 * phase],
+                            rotation_6d(quat_from_euler(np.array([0.0, phase, 0.0]))),
+                            np.zeros(hand),
+                        ]
+                    ).astype(np.float32),
+                    schema.ACTION: wave,
+                    schema.WORLD_STATE: np.concatenate([np.full(12, phase), np.zeros(hand)]).astype(
+                        np.float32
+                    ),
+                    schema.WORLD_ACTION: wave,
+                    schema.GRASP_POINT_BASE: offset,
+                    schema.GOAL_POINT_BASE: offset + np.float32(0.1),
+                    "task": TASKS[episode % len(TASKS)],
+                }
+            )
             ds.add_frame(frame)
         ds.save_episode()
     ds.finalize()

@@ -15,12 +15,47 @@ from transformers import AutoTokenizer, PreTrainedTokenizerBase, PreTrainedToken
 
 SPECIAL_TOKENS = ("<pad>", "<eos>", "<bos>", "<unk>")
 PROMPT_WORDS = ("what", "action", "should", "the", "robot", "take", "to", "?", "in", ":", "out")
-LOCATION_WORDS = ("at", "top", "bottom", "left", "right", "middle", "center", "upper", "lower", "front", "back")
+LOCATION_WORDS = (
+    "at",
+    "top",
+    "bottom",
+    "left",
+    "right",
+    "middle",
+    "center",
+    "upper",
+    "lower",
+    "front",
+    "back",
+)
 SKILL_WORDS = ("open", "close", "pull", "push", "pick")
 # The 20 object categories, split into words ("washing_machine" -> "washing machine").
-OBJECT_WORDS = ("box", "toilet", "laptop", "trashcan", "dishwasher", "oven", "microwave", "refrigerator",
-                "washing", "machine", "car", "safe", "fridge", "cabinet", "window", "lever", "door", "round",
-                "faucet", "table", "cart", "holistic", "ycb", "object")
+OBJECT_WORDS = (
+    "box",
+    "toilet",
+    "laptop",
+    "trashcan",
+    "dishwasher",
+    "oven",
+    "microwave",
+    "refrigerator",
+    "washing",
+    "machine",
+    "car",
+    "safe",
+    "fridge",
+    "cabinet",
+    "window",
+    "lever",
+    "door",
+    "round",
+    "faucet",
+    "table",
+    "cart",
+    "holistic",
+    "ycb",
+    "object",
+)
 WORD_VOCAB = SPECIAL_TOKENS + PROMPT_WORDS + LOCATION_WORDS + SKILL_WORDS + OBJECT_WORDS
 
 
@@ -28,15 +63,25 @@ def build_word_tokenizer(texts: Iterable[str] = ()) -> PreTrainedTokenizerFast:
     """The fixed vocabulary, extended (in sorted order, so deterministically) by any other words in `texts`,
     e.g. the dataset's task strings such as "pick cracker box"."""
     base = _normalizer()
-    words = {w for text in texts for w, _ in pre_tokenizers.Whitespace().pre_tokenize_str(base.normalize_str(text))}
+    words = {
+        w for text in texts for w, _ in pre_tokenizers.Whitespace().pre_tokenize_str(base.normalize_str(text))
+    }
     vocab = {word: i for i, word in enumerate(WORD_VOCAB + tuple(sorted(words - set(WORD_VOCAB))))}
     tok = Tokenizer(WordLevel(vocab, unk_token="<unk>"))
     tok.normalizer = base
     tok.pre_tokenizer = pre_tokenizers.Whitespace()
     # Like Gemma: every prompt starts with <bos>.
-    tok.post_processor = processors.TemplateProcessing(single="<bos> $A", special_tokens=[("<bos>", vocab["<bos>"])])
-    return PreTrainedTokenizerFast(tokenizer_object=tok, bos_token="<bos>", eos_token="<eos>", pad_token="<pad>",
-                                   unk_token="<unk>", padding_side="left")
+    tok.post_processor = processors.TemplateProcessing(
+        single="<bos> $A", special_tokens=[("<bos>", vocab["<bos>"])]
+    )
+    return PreTrainedTokenizerFast(
+        tokenizer_object=tok,
+        bos_token="<bos>",
+        eos_token="<eos>",
+        pad_token="<pad>",
+        unk_token="<unk>",
+        padding_side="left",
+    )
 
 
 def _normalizer() -> normalizers.Normalizer:

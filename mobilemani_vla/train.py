@@ -67,13 +67,16 @@ def _resume_point(cfg: VLACfg, output_dir: Path) -> Path | None:
     saved = vla_cfg_from_yaml((found[-1] / "config.yaml").read_text())
     fields = ("robot", "model", "inputs", "diffusion")
     if any(getattr(saved, f) != getattr(cfg, f) for f in fields):
-        raise ValueError(f"{found[-1]} was trained with a different {'/'.join(fields)} config; choose another "
-                         "train.output_dir or set train.resume=false")
+        raise ValueError(
+            f"{found[-1]} was trained with a different {'/'.join(fields)} config; choose another "
+            "train.output_dir or set train.resume=false"
+        )
     return found[-1]
 
 
-def _load_resume_artifacts(resume_from: Path | None, cfg: VLACfg, tasks: list[str]
-                           ) -> tuple[PreTrainedTokenizerBase, Normalizer | None]:
+def _load_resume_artifacts(
+    resume_from: Path | None, cfg: VLACfg, tasks: list[str]
+) -> tuple[PreTrainedTokenizerBase, Normalizer | None]:
     """The tokenizer (and normaliser) a resumed run keeps; a new run builds its tokenizer."""
     if resume_from is not None:
         return load_tokenizer(resume_from / "tokenizer"), Normalizer.load(resume_from / "normalizer.json")
@@ -101,13 +104,18 @@ def _trim_log(path: Path, step: int) -> None:
 def train(cfg: VLACfg) -> TrainResult:
     os.environ.setdefault("WANDB_MODE", "offline")
     output_dir = Path(cfg.train.output_dir)
-    accelerator = Accelerator(mixed_precision=cfg.train.mixed_precision, project_dir=str(output_dir),
-                              log_with="wandb" if cfg.train.logger == "wandb" else None)
+    accelerator = Accelerator(
+        mixed_precision=cfg.train.mixed_precision,
+        project_dir=str(output_dir),
+        log_with="wandb" if cfg.train.logger == "wandb" else None,
+    )
     set_seed(cfg.train.seed)
     per_device, rest = divmod(cfg.train.batch_size, accelerator.num_processes)
     if rest or per_device == 0:
-        raise ValueError(f"train.batch_size={cfg.train.batch_size} must split evenly over "
-                         f"{accelerator.num_processes} processes")
+        raise ValueError(
+            f"train.batch_size={cfg.train.batch_size} must split evenly over "
+            f"{accelerator.num_processes} processes"
+        )
 
     resume_from = _resume_point(cfg, output_dir)
     tokenizer, normalizer = _load_resume_artifacts(resume_from, cfg, sorted(open_metadata(cfg).tasks.index))
@@ -118,18 +126,41 @@ def train(cfg: VLACfg) -> TrainResult:
         data = open_data(cfg, model.backbone.image_size, progress=accelerator.is_local_main_process)
     if normalizer is None:
         normalizer = fit_normalizer(data.table, data.table.rows(data.train_episodes), cfg.inputs.states)
-    processor = VLAProcessor(tokenizer, normalizer, cfg.inputs.cameras, cfg.inputs.states,
-                             model.backbone.image_size, cfg.model.prompt)
-    dataset_info = {"root": cfg.data.root, "train_episodes": data.train_episodes.tolist(),
-                    "heldout_episodes": data.heldout_episodes.tolist(), "image_size": data.image_size}
-    loader = DataLoader(data.train, batch_size=per_device, shuffle=True, collate_fn=processor,
-                        num_workers=cfg.data.num_workers, drop_last=len(data.train) >= cfg.train.batch_size)
+    processor = VLAProcessor(
+        tokenizer,
+        normalizer,
+        cfg.inputs.cameras,
+        cfg.inputs.states,
+        model.backbone.image_size,
+        cfg.model.prompt,
+    )
+    dataset_info = {
+        "root": cfg.data.root,
+        "train_episodes": data.train_episodes.tolist(),
+        "heldout_episodes": data.heldout_episodes.tolist(),
+        "image_size": data.image_size,
+    }
+    loader = DataLoader(
+        data.train,
+        batch_size=per_device,
+        shuffle=True,
+        collate_fn=processor,
+        num_workers=cfg.data.num_workers,
+        drop_last=len(data.train) >= cfg.train.batch_size,
+    )
     optimizer = torch.optim.AdamW(model.parameters(), lr=cfg.train.lr, weight_decay=cfg.train.weight_decay)
-    schedule = get_scheduler(cfg.train.lr_schedule, optimizer, num_warmup_steps=cfg.train.warmup_steps,
-                             num_training_steps=cfg.train.steps)
+    schedule = get_scheduler(
+        cfg.train.lr_schedule,
+        optimizer,
+        num_warmup_steps=cfg.train.warmup_steps,
+        num_training_steps=cfg.train.steps,
+    )
     model, optimizer, loader, schedule = accelerator.prepare(model, optimizer, loader, schedule)
-    ema = (AveragedModel(accelerator.unwrap_model(model), avg_fn=ema_update(cfg.train.ema_decay))
-           if cfg.train.ema_decay > 0 else None)
+    ema = (
+        AveragedModel(accelerator.unwrap_model(model), avg_fn=ema_update(cfg.train.ema_decay))
+        if cfg.train.ema_decay > 0
+        else None
+    )
 
     start = 0
     if resume_from is not None:
@@ -137,14 +168,19 @@ def train(cfg: VLACfg) -> TrainResult:
         start = checkpoint_step(resume_from)
         if ema is not None:
             load_ema(ema, resume_from)
-    accelerator.init_trackers("mobilemani_vla", config=asdict(cfg),
-                              init_kwargs={"wandb": {"name": cfg.name, "dir": str(output_dir)}})
+    accelerator.init_trackers(
+        "mobilemani_vla",
+        config=asdict(cfg),
+        init_kwargs={"wandb": {"name": cfg.name, "dir": str(output_dir)}},
+    )
     diagnostics_log = output_dir / "diagnostics.jsonl"
     diagnose_batch = None
     if accelerator.is_main_process and cfg.train.diagnose_every > 0 and data.heldout is not None:
         _trim_log(diagnostics_log, start)
-        diagnose_batch = {k: v.to(accelerator.device) for k, v in
-                          heldout_batch(data.heldout, cfg.train.diagnose_frames, processor).items()}
+        diagnose_batch = {
+            k: v.to(accelerator.device)
+            for k, v in heldout_batch(data.heldout, cfg.train.diagnose_frames, processor).items()
+        }
 
     def evaluated_model() -> MobileManiVLA:
         return ema.module if ema is not None else accelerator.unwrap_model(model)
@@ -165,7 +201,9 @@ def train(cfg: VLACfg) -> TrainResult:
         weights = accelerator.get_state_dict(model)  # collective too; gathers FSDP shards on the main process
         if accelerator.is_main_process:
             save_gathered_weights(tmp, weights)
-            save_artifacts(tmp, cfg, accelerator.unwrap_model(model), normalizer, tokenizer, at, dataset_info, ema)
+            save_artifacts(
+                tmp, cfg, accelerator.unwrap_model(model), normalizer, tokenizer, at, dataset_info, ema
+            )
             publish(tmp, final, cfg.train.keep_checkpoints)
         accelerator.wait_for_everyone()
         return final
@@ -173,8 +211,13 @@ def train(cfg: VLACfg) -> TrainResult:
     losses: list[float] = []
     model.train()
     batches = _batches(loader)
-    bar = tqdm(range(start, cfg.train.steps), initial=start, total=cfg.train.steps, desc="vla",
-               disable=not (cfg.train.progress and accelerator.is_local_main_process))
+    bar = tqdm(
+        range(start, cfg.train.steps),
+        initial=start,
+        total=cfg.train.steps,
+        desc="vla",
+        disable=not (cfg.train.progress and accelerator.is_local_main_process),
+    )
     clock = time.perf_counter()
     for step in bar:
         batch = next(batches)
@@ -193,8 +236,10 @@ def train(cfg: VLACfg) -> TrainResult:
         if done % cfg.train.log_every == 0:
             mean = accelerator.reduce(loss.detach(), reduction="mean").item()
             rate = cfg.train.log_every * cfg.train.batch_size / (time.perf_counter() - clock)
-            accelerator.log({"train/loss": mean, "train/lr": schedule.get_last_lr()[0],
-                             "train/samples_per_s": rate}, step=done)
+            accelerator.log(
+                {"train/loss": mean, "train/lr": schedule.get_last_lr()[0], "train/samples_per_s": rate},
+                step=done,
+            )
             bar.set_postfix(loss=f"{mean:.4f}", samples_per_s=f"{rate:.1f}")
             clock = time.perf_counter()
         if cfg.train.diagnose_every > 0 and done % cfg.train.diagnose_every == 0:

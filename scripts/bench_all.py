@@ -44,17 +44,45 @@ def headline_rows(report: dict) -> list[tuple[str, str, str, str, str]]:
     """(benchmark, case, figure, raw limit, ratio) rows."""
     rows = []
     for r in report["sim"]["results"]:
-        rows.append(("sim env steps/s", f"{r['robot']} x{r['num_envs']}", str(r["env_steps_per_s"]),
-                     str(r["raw_steps_per_s"]), f"{r['env_over_raw']:.2f}"))
+        rows.append(
+            (
+                "sim env steps/s",
+                f"{r['robot']} x{r['num_envs']}",
+                str(r["env_steps_per_s"]),
+                str(r["raw_steps_per_s"]),
+                f"{r['env_over_raw']:.2f}",
+            )
+        )
     for r in report["render"]["results"]:
-        rows.append(("render frames/s (2 cam x RGB+D+S)", f"{r['size']}px", f"{r['frames_per_s']:.1f}",
-                     f"{r['raw_rgb_renders_per_s']:.1f}", f"{r['ratio_frame_vs_raw']:.2f}"))
+        rows.append(
+            (
+                "render frames/s (2 cam x RGB+D+S)",
+                f"{r['size']}px",
+                f"{r['frames_per_s']:.1f}",
+                f"{r['raw_rgb_renders_per_s']:.1f}",
+                f"{r['ratio_frame_vs_raw']:.2f}",
+            )
+        )
     for r in report["ppo"]["results"]:
-        rows.append(("PPO samples/s", f"{r['preset']} {r['robot']}", str(r["samples_per_s"]),
-                     str(r["raw_env_steps_per_s"]), f"{r['ppo_over_raw']:.3f}"))
+        rows.append(
+            (
+                "PPO samples/s",
+                f"{r['preset']} {r['robot']}",
+                str(r["samples_per_s"]),
+                str(r["raw_env_steps_per_s"]),
+                f"{r['ppo_over_raw']:.3f}",
+            )
+        )
     for r in report["export"]["results"]:
-        rows.append(("export frames/s (render+encode)", f"{r['size']}px, {r['episode_mb']} MB/episode",
-                     f"{r['frames_per_s']:.1f}", "-", f"render share {r['render_share']:.2f}"))
+        rows.append(
+            (
+                "export frames/s (render+encode)",
+                f"{r['size']}px, {r['episode_mb']} MB/episode",
+                f"{r['frames_per_s']:.1f}",
+                "-",
+                f"render share {r['render_share']:.2f}",
+            )
+        )
     for r in report["vla"]["cpu"]:
         rows.append(("VLA train samples/s", r["model"], f"{r['train_samples_per_s']:.2f}", "-", "-"))
         rows.append(("VLA s per chunk (10 DDIM)", r["model"], f"{r['infer_s_per_chunk']:.3f}", "-", "-"))
@@ -62,7 +90,9 @@ def headline_rows(report: dict) -> list[tuple[str, str, str, str, str]]:
 
 
 def main() -> None:
-    parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    parser = argparse.ArgumentParser(
+        description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter
+    )
     parser.add_argument("--quick", action="store_true")
     parser.add_argument("--out", type=Path, default=Path("results/bench.json"))
     args = parser.parse_args()
@@ -70,20 +100,29 @@ def main() -> None:
     with tempfile.TemporaryDirectory() as tmp:
         export_json = Path(tmp) / "export.json"
         report = {
-            "sim": run("mobilemani_rl.bench", ["--seconds", "2" if quick else "6"]
-                       + (["--envs", "64", "256"] if quick else [])),
+            "sim": run(
+                "mobilemani_rl.bench",
+                ["--seconds", "2" if quick else "6"] + (["--envs", "64", "256"] if quick else []),
+            ),
             "render": run("mobilemani_rl.render_bench", ["--seconds", "1" if quick else "5"]),
-            "ppo": run("mobilemani_rl.rl.bench", ["--iterations", "1" if quick else "3"]
-                       + (["--presets", "cpu"] if quick else [])),
-            "export": run("mobilemani_data.bench", [f"bench.out={export_json}"]
-                          + (["bench.sizes=[224]", "bench.episodes=1"] if quick else []), export_json),
+            "ppo": run(
+                "mobilemani_rl.rl.bench",
+                ["--iterations", "1" if quick else "3"] + (["--presets", "cpu"] if quick else []),
+            ),
+            "export": run(
+                "mobilemani_data.bench",
+                [f"bench.out={export_json}"] + (["bench.sizes=[224]", "bench.episodes=1"] if quick else []),
+                export_json,
+            ),
             "vla": run("mobilemani_vla.bench", ["--steps", "1", "--runs", "1"] if quick else []),
         }
     args.out.parent.mkdir(parents=True, exist_ok=True)
     args.out.write_text(json.dumps(report, indent=2))
     rows = headline_rows(report)
-    widths = [max(len(r[i]) for r in rows + [("benchmark", "case", "figure", "raw limit", "ratio")])
-              for i in range(5)]
+    widths = [
+        max(len(r[i]) for r in rows + [("benchmark", "case", "figure", "raw limit", "ratio")])
+        for i in range(5)
+    ]
     for row in [("benchmark", "case", "figure", "raw limit", "ratio"), *rows]:
         print("  ".join(cell.ljust(w) for cell, w in zip(row, widths, strict=True)))
     print(f"wrote {args.out}")

@@ -29,11 +29,16 @@ def teacher_section(demo: Path, out: Path) -> list[str]:
     run = demo / "rl" / "g1" / "test" / "box" / "open"
     evaluation = newest(list(run.glob("eval_*.json")))
     result = json.loads((run / "result.json").read_text())
-    lines = ["## 1. Teacher (PPO, g1 opens test/box)", "",
-             f"- {result['iterations']} iterations, {result['samples'] / 1e6:.2f} M samples"]
+    lines = [
+        "## 1. Teacher (PPO, g1 opens test/box)",
+        "",
+        f"- {result['iterations']} iterations, {result['samples'] / 1e6:.2f} M samples",
+    ]
     if evaluation is not None:
         rate = json.loads(evaluation.read_text())["success_rate"]
-        lines.append(f"- success over 256 seeded evaluation episodes: **{100 * rate:.1f}%** ({evaluation.name})")
+        lines.append(
+            f"- success over 256 seeded evaluation episodes: **{100 * rate:.1f}%** ({evaluation.name})"
+        )
     curve = plot_runs([run], out / "teacher_curve.png")
     return lines + ["", f"![teacher training curve]({curve.name})", ""]
 
@@ -41,10 +46,13 @@ def teacher_section(demo: Path, out: Path) -> list[str]:
 def dataset_section(demo: Path) -> list[str]:
     info = json.loads((demo / "data" / "lerobot" / "meta" / "info.json").read_text())
     episodes, frames = info["total_episodes"], info["total_frames"]
-    return ["## 2. Dataset (LeRobot v3, teacher rollouts in 3 train rooms)", "",
-            f"- {episodes} successful episodes, {frames} frames ({frames / max(episodes, 1):.0f} per episode at "
-            f"{info['fps']} FPS), cameras: {', '.join(k for k in info['features'] if k.startswith('observation.images'))}",
-            ""]
+    return [
+        "## 2. Dataset (LeRobot v3, teacher rollouts in 3 train rooms)",
+        "",
+        f"- {episodes} successful episodes, {frames} frames ({frames / max(episodes, 1):.0f} per episode at "
+        f"{info['fps']} FPS), cameras: {', '.join(k for k in info['features'] if k.startswith('observation.images'))}",
+        "",
+    ]
 
 
 def vla_section(demo: Path, out: Path) -> list[str]:
@@ -60,20 +68,29 @@ def vla_section(demo: Path, out: Path) -> list[str]:
     fig.savefig(out / "vla_loss.png", dpi=120)
     plt.close(fig)
     start, end = losses[: max(1, window)].mean(), losses[-window:].mean()
-    lines = ["## 3. MobileManiVLA (cpu recipe, CPU)", "",
-             f"- {len(losses)} training steps; loss {start:.3f} -> {end:.3f}"]
+    lines = [
+        "## 3. MobileManiVLA (cpu recipe, CPU)",
+        "",
+        f"- {len(losses)} training steps; loss {start:.3f} -> {end:.3f}",
+    ]
     diagnostics = demo / "vla" / "diagnostics.jsonl"
     if diagnostics.is_file():
         last = json.loads(diagnostics.read_text().splitlines()[-1])
-        lines.append(f"- held-out noise error at step {last['step']}: {last['noise_mse/image']:.4f} with the image "
-                     f"feature, {last.get('noise_mse/null_image', float('nan')):.4f} with the null vector "
-                     "(lower with the image: the action head uses what the cameras see)")
+        lines.append(
+            f"- held-out noise error at step {last['step']}: {last['noise_mse/image']:.4f} with the image "
+            f"feature, {last.get('noise_mse/null_image', float('nan')):.4f} with the null vector "
+            "(lower with the image: the action head uses what the cameras see)"
+        )
     return lines + ["", "![VLA loss](vla_loss.png)", ""]
 
 
 def eval_section(demo: Path, out: Path) -> list[str]:
-    lines = ["## 4. Closed-loop evaluation (test/box open, unseen test rooms)", "",
-             "| policy | success | episodes |", "|---|---|---|"]
+    lines = [
+        "## 4. Closed-loop evaluation (test/box open, unseen test rooms)",
+        "",
+        "| policy | success | episodes |",
+        "|---|---|---|",
+    ]
     for name in ("teacher", "vla"):
         summary = newest(list((demo / "eval" / "g1" / name).glob("*.summary.json")))
         if summary is not None:
@@ -95,7 +112,9 @@ def tables_section(demo: Path) -> list[str]:
 
 
 def main() -> None:
-    parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    parser = argparse.ArgumentParser(
+        description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter
+    )
     parser.add_argument("demo", type=Path)
     args = parser.parse_args()
     demo = args.demo

@@ -19,12 +19,18 @@ from mobilemani_rl.envs.mobilemani_env import MobileManiEnv
 from mobilemani_rl.rollout import first_episode_success
 from mobilemani_rl.scripted import MOVE, ScriptedPolicy
 
-TASKS = (("g1", "test/box", "open"), ("g1", "test/can", "pick"), ("xhand", "test/box", "open"),
-         ("xhand", "test/can", "pick"))
+TASKS = (
+    ("g1", "test/box", "open"),
+    ("g1", "test/can", "pick"),
+    ("xhand", "test/box", "open"),
+    ("xhand", "test/can", "pick"),
+)
 
 
 def measure(robot: str, obj: str, skill: str, substeps: int, num_envs: int) -> dict:
-    cfg = EnvCfg(num_envs=num_envs, seed=0, task=TaskCfg(robot, obj, skill), physics=PhysicsCfg(substeps=substeps))
+    cfg = EnvCfg(
+        num_envs=num_envs, seed=0, task=TaskCfg(robot, obj, skill), physics=PhysicsCfg(substeps=substeps)
+    )
     env = MobileManiEnv(cfg)
     policy = ScriptedPolicy(env)
     worst = {"penetration": 0.0, "slip": 0.0, "unstable": 0}
@@ -41,23 +47,36 @@ def measure(robot: str, obj: str, skill: str, substeps: int, num_envs: int) -> d
             worst["slip"] = max(worst["slip"], float(env.distances().hand[moving].max()))
 
     success = first_episode_success(env, policy, seed=0, on_step=inspect)
-    return {"robot": robot, "object": obj, "skill": skill, "substeps": substeps,
-            "timestep_ms": round(1000 * cfg.physics.timestep, 2), "success": float(success.mean()),
-            "unstable_sim_steps": worst["unstable"], "max_penetration_mm": round(1000 * worst["penetration"], 1),
-            "max_slip_mm": round(1000 * worst["slip"], 1)}
+    return {
+        "robot": robot,
+        "object": obj,
+        "skill": skill,
+        "substeps": substeps,
+        "timestep_ms": round(1000 * cfg.physics.timestep, 2),
+        "success": float(success.mean()),
+        "unstable_sim_steps": worst["unstable"],
+        "max_penetration_mm": round(1000 * worst["penetration"], 1),
+        "max_slip_mm": round(1000 * worst["slip"], 1),
+    }
 
 
 def main() -> None:
-    parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    parser = argparse.ArgumentParser(
+        description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter
+    )
     parser.add_argument("--envs", type=int, default=32)
     parser.add_argument("--substeps", nargs="+", type=int, default=[2, 3, 4, 6])
     args = parser.parse_args()
     rows = [measure(*task, s, args.envs) for s in args.substeps for task in TASKS]
-    print("| robot | object | skill | substeps | dt (ms) | success | unstable | penetration (mm) | slip (mm) |")
+    print(
+        "| robot | object | skill | substeps | dt (ms) | success | unstable | penetration (mm) | slip (mm) |"
+    )
     print("|---|---|---|---|---|---|---|---|---|")
     for r in rows:
-        print(f"| {r['robot']} | {r['object']} | {r['skill']} | {r['substeps']} | {r['timestep_ms']} | "
-              f"{r['success']:.2f} | {r['unstable_sim_steps']} | {r['max_penetration_mm']} | {r['max_slip_mm']} |")
+        print(
+            f"| {r['robot']} | {r['object']} | {r['skill']} | {r['substeps']} | {r['timestep_ms']} | "
+            f"{r['success']:.2f} | {r['unstable_sim_steps']} | {r['max_penetration_mm']} | {r['max_slip_mm']} |"
+        )
     print(json.dumps(rows, indent=2))
 
 

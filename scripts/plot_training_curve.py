@@ -39,7 +39,9 @@ def load_run(run_dir: Path) -> dict[str, list[tuple[float, float, float]]]:
             if tag in acc.Tags()["scalars"]:
                 scalars = acc.Scalars(tag)
                 start = scalars[0].wall_time if scalars else 0.0
-                series[tag] += [((s.step + 1) * per_iteration, s.wall_time - start + offset, s.value) for s in scalars]
+                series[tag] += [
+                    ((s.step + 1) * per_iteration, s.wall_time - start + offset, s.value) for s in scalars
+                ]
     return series
 
 
@@ -67,7 +69,9 @@ def plot_runs(runs: list[Path], out: Path) -> Path:
 
 
 def main() -> None:
-    parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    parser = argparse.ArgumentParser(
+        description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter
+    )
     parser.add_argument("runs", nargs="+", type=Path)
     parser.add_argument("--out", type=Path, default=Path("training_curve.png"))
     args = parser.parse_args()

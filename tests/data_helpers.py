@@ -14,6 +14,16 @@ CONF = Path(__file__).resolve().parents[1] / "conf"
 def tiny_cfg(workdir: Path, *overrides: str) -> DataCfg:
     """The tiny subset (2 objects x 2 skills x 2 scenes x 2 episodes), 64 px H.264 export, under `workdir`."""
     with initialize_config_dir(config_dir=str(CONF), version_base="1.3"):
-        cfg = compose("data", overrides=["data/subset=tiny", f"data_dir={workdir}", "collect.num_envs=8",
-                                         "export.width=64", "export.height=64", "export.vcodec=h264", *overrides])
+        cfg = compose(
+            "data",
+            overrides=[
+                "data/subset=tiny",
+                f"data_dir={workdir}",
+                "collect.num_envs=8",
+                "export.width=64",
+                "export.height=64",
+                "export.vcodec=h264",
+                *overrides,
+            ],
+        )
     return data_cfg_from_hydra(cfg)

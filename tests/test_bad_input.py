@@ -53,6 +53,8 @@ def test_a_checkpoint_from_an_older_dataset_layout_is_refused_by_name():
     from mobilemani_vla.processor import VLAProcessor
     from mobilemani_vla.tokenizer import build_word_tokenizer
 
-    old_bounds = Normalizer({"action": ([-1.0] * 7, [1.0] * 7), "observation.wrist_pose_base": ([-1.0] * 9, [1.0] * 9)})
+    old_bounds = Normalizer(
+        {"action": ([-1.0] * 7, [1.0] * 7), "observation.wrist_pose_base": ([-1.0] * 9, [1.0] * 9)}
+    )
     with pytest.raises(KeyError, match=r"no \['observation.state'\].*older dataset layout"):
         VLAProcessor(build_word_tokenizer(), old_bounds, ["head_rgb"], ["wrist_pose"], 32, "{instruction}")

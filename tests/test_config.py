@@ -22,8 +22,17 @@ def test_default_yaml_equals_dataclass_defaults():
 
 
 def test_overrides_reach_the_env_config():
-    cfg = env_cfg_from_hydra(compose_rl(["robot=xhand", "task.object=test/can", "task.skill=pick",
-                                         "env.num_envs=8", "env.physics.substeps=4"]))
+    cfg = env_cfg_from_hydra(
+        compose_rl(
+            [
+                "robot=xhand",
+                "task.object=test/can",
+                "task.skill=pick",
+                "env.num_envs=8",
+                "env.physics.substeps=4",
+            ]
+        )
+    )
     assert cfg.task == TaskCfg(robot="xhand", object="test/can", skill="pick")
     assert cfg.num_envs == 8 and cfg.physics.substeps == 4
 

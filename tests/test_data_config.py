@@ -14,10 +14,16 @@ from mobilemani_rl.registry import UnknownNameError
 from mobilemani_rl.tasks import instruction, select_combinations
 
 
-@pytest.mark.parametrize(("skill", "category", "text"), [
-    ("open", "washing_machine", "open washing machine"), ("open", "lever_door", "open door"),
-    ("close", "round_door", "close door"), ("pull", "cart", "pull cart"), ("pick", "holistic", "pick object"),
-])
+@pytest.mark.parametrize(
+    ("skill", "category", "text"),
+    [
+        ("open", "washing_machine", "open washing machine"),
+        ("open", "lever_door", "open door"),
+        ("close", "round_door", "close door"),
+        ("pull", "cart", "pull cart"),
+        ("pick", "holistic", "pick object"),
+    ],
+)
 def test_instruction_follows_the_reference_verbs_and_nouns(skill, category, text):
     assert instruction(skill, category) == text
 
@@ -67,9 +73,14 @@ def test_labels_are_shifted_and_states_drop_the_reset():
     quat = np.tile([1.0, 0.0, 0.0, 0.0], (t, 1))
     arrays = {k: rng.normal(size=(t, 3)) for k in FRAME_KEYS}
     arrays.update({k: quat for k in ("hand_quat", "base_quat", "palm_quat", "grasp_quat")})
-    arrays.update(joint_pos=rng.normal(size=(t, 10)), joint_vel=rng.normal(size=(t, 10)),
-                  state=np.zeros((t, 4)), action=rng.uniform(-1, 1, (t, 7)), success=np.ones(t, bool),
-                  goal_pos=np.array([0.0, 0.0, 1.0]))
+    arrays.update(
+        joint_pos=rng.normal(size=(t, 10)),
+        joint_vel=rng.normal(size=(t, 10)),
+        state=np.zeros((t, 4)),
+        action=rng.uniform(-1, 1, (t, 7)),
+        success=np.ones(t, bool),
+        goal_pos=np.array([0.0, 0.0, 1.0]),
+    )
     vectors = episode_vectors(Episode(arrays), num_hand_joints=1, convention="conjugate")
     assert np.allclose(vectors["world.action"], arrays["action"][1:])
     assert np.allclose(vectors["action"], arrays["action"][1:])  # identity base

@@ -41,7 +41,9 @@ def test_every_combination_has_exactly_the_requested_successes(tiny):
 
 def test_lerobot_reads_back_16_step_action_chunks(tiny):
     deltas = {schema.ACTION: [i / schema.FPS for i in range(CHUNK)]}
-    ds = LeRobotDataset(tiny.export.repo_id, root=tiny.dataset_dir, delta_timestamps=deltas, video_backend="pyav")
+    ds = LeRobotDataset(
+        tiny.export.repo_id, root=tiny.dataset_dir, delta_timestamps=deltas, video_backend="pyav"
+    )
     lines = read_episodes(Path(tiny.dataset_dir))
     assert ds.num_episodes == 16 and len(ds) == sum(line["length"] for line in lines)
     assert set(ds.meta.tasks.index) == {"open dishwasher", "close dishwasher", "pull cart", "push cart"}
@@ -98,8 +100,11 @@ def test_export_writes_only_the_chosen_streams_and_stock_policies_see_the_right_
     from lerobot.configs.types import FeatureType
     from lerobot.utils.feature_utils import dataset_to_policy_features
 
-    cfg = replace(tiny, dataset_dir=str(tmp_path / "lerobot"),
-                  export=replace(tiny.export, cameras=["wrist"], modalities=["rgb", "depth"]))
+    cfg = replace(
+        tiny,
+        dataset_dir=str(tmp_path / "lerobot"),
+        export=replace(tiny.export, cameras=["wrist"], modalities=["rgb", "depth"]),
+    )
     export(cfg)
     assert validate(cfg) == []
     ds = LeRobotDataset(cfg.export.repo_id, root=cfg.dataset_dir, video_backend="pyav")

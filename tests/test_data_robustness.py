@@ -23,8 +23,12 @@ SUBSET = ["subset.objects=[dishwasher/0000]", "subset.episodes=2"]
 
 def test_killed_collection_reruns_to_exact_counts(tmp_path):
     overrides = [f"data_dir={tmp_path}", "data/subset=tiny", *SUBSET, "collect.num_envs=8"]
-    proc = subprocess.Popen([sys.executable, "-m", "mobilemani_data.collect", *overrides], cwd=ROOT,
-                            stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+    proc = subprocess.Popen(
+        [sys.executable, "-m", "mobilemani_data.collect", *overrides],
+        cwd=ROOT,
+        stdout=subprocess.DEVNULL,
+        stderr=subprocess.DEVNULL,
+    )
     raw = tmp_path / "raw"
     deadline = time.time() + 120
     while not shard_paths(raw, "g1") and time.time() < deadline and proc.poll() is None:
@@ -36,7 +40,9 @@ def test_killed_collection_reruns_to_exact_counts(tmp_path):
     first = {p: p.stat().st_mtime_ns for p in done}
     # A write cut short leaves a truncated partial file; the rerun must neither read nor keep it.
     cfg = tiny_cfg(tmp_path, *SUBSET)
-    missing = next(p for c in select_combinations(cfg.robot, cfg.subset) if not (p := raw / shard_path(c)).exists())
+    missing = next(
+        p for c in select_combinations(cfg.robot, cfg.subset) if not (p := raw / shard_path(c)).exists()
+    )
     missing.parent.mkdir(parents=True, exist_ok=True)
     missing.with_name(missing.name + PARTIAL_SUFFIX).write_bytes(b"\x89HDF\r\n\x1a\n truncated")
 
@@ -52,7 +58,9 @@ def test_corrupt_shard_is_named_and_the_rest_exports(tmp_path, capsys):
     cfg = tiny_cfg(tmp_path, "subset.objects=[dishwasher/0000]", "subset.skills=[open]", "subset.episodes=1")
     collect(cfg)
     out = capsys.readouterr().out  # the total up front, then progress with an ETA
-    assert "2 combinations: 0 complete, 2 to collect" in out and "| 2/2 combinations, " in out and "ETA" in out
+    assert (
+        "2 combinations: 0 complete, 2 to collect" in out and "| 2/2 combinations, " in out and "ETA" in out
+    )
     good, bad = shard_paths(Path(cfg.raw_dir), "g1")
     data = bad.read_bytes()
     bad.write_bytes(data[: len(data) // 2])

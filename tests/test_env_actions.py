@@ -19,7 +19,9 @@ def test_checked_actions_clamp_zero_nan_and_count_them():
 
 
 def test_env_refuses_a_wrong_width_and_rollouts_report_nan_actions():
-    env = MobileManiEnv(EnvCfg(num_envs=3, seed=0, episode_length=5, task=TaskCfg(object="test/box", skill="open")))
+    env = MobileManiEnv(
+        EnvCfg(num_envs=3, seed=0, episode_length=5, task=TaskCfg(object="test/box", skill="open"))
+    )
     env.reset(seed=0)
     with pytest.raises(ValueError, match="got \\(3, 6\\)"):
         env.step(np.zeros((3, 6)))

@@ -78,7 +78,9 @@ def test_rsl_rl_vecenv_interface():
 def test_rsl_rl_vecenv_sets_episode_lengths_of_a_multi_object_env():
     """rsl-rl's random initial episode lengths reach every object's env: episodes of a category policy end at
     different steps, so every PPO iteration has finished episodes to report (not success=nan)."""
-    vec = RslRlVecEnv(MultiObjectEnv(EnvCfg(num_envs=4, task=TaskCfg(object="laptop")), policy_objects("laptop", 2)))
+    vec = RslRlVecEnv(
+        MultiObjectEnv(EnvCfg(num_envs=4, task=TaskCfg(object="laptop")), policy_objects("laptop", 2))
+    )
     vec.episode_length_buf = torch.tensor([298, 0, 0, 298])
     np.testing.assert_array_equal(vec.episode_length_buf.numpy(), [298, 0, 0, 298])
     _, _, dones, extras = vec.step(torch.zeros(4, 7))

@@ -62,7 +62,9 @@ def test_ensemble_weights_favour_candidates_agreeing_with_the_newest_chunk():
     ens.update(np.array([[1.0, 0.0], [0.0, 1.0]]))  # its row 1 (orthogonal to the next reference) weighs less
     out = ens.update(np.array([[1.0, 0.0], [1.0, 0.0]]))
     w_new, w_old = np.exp(0.1), 1.0
-    np.testing.assert_allclose(out, (w_new * np.array([1.0, 0.0]) + w_old * np.array([0.0, 1.0])) / (w_new + w_old))
+    np.testing.assert_allclose(
+        out, (w_new * np.array([1.0, 0.0]) + w_old * np.array([0.0, 1.0])) / (w_new + w_old)
+    )
 
 
 def test_chunk_executor_resets_per_env_and_executes_fixed_elements():
@@ -92,20 +94,26 @@ class BaseFrameScripted(ScriptedEvalPolicy):
         return action_to_base(super().act(obs), self.policy.env.frames.base_quat[:, None])
 
 
-@pytest.mark.parametrize("task", [dict(object="test/box", skill="open"),
-                                  dict(object="test/box", skill="close", scene="tabletop/17")])
+@pytest.mark.parametrize(
+    "task",
+    [dict(object="test/box", skill="open"), dict(object="test/box", skill="close", scene="tabletop/17")],
+)
 def test_scripted_policy_through_the_harness_reproduces_its_own_success(task):
     seed, n = 5, 12
     env = env_for(n, seed, **task)
     own = run_first_episodes(env, ScriptedPolicy(env), seed).success.mean()
-    harness = run_batch(env_for(n, seed, **task), ScriptedEvalPolicy(), seed, "open box", ENSEMBLE).success.mean()
+    harness = run_batch(
+        env_for(n, seed, **task), ScriptedEvalPolicy(), seed, "open box", ENSEMBLE
+    ).success.mean()
     base = run_batch(env_for(n, seed, **task), BaseFrameScripted(), seed, "open box", ENSEMBLE).success.mean()
     assert own > 0.5
     assert abs(harness - own) <= 0.02 and abs(base - own) <= 0.02
 
 
 def test_random_policy_scores_near_zero():
-    stats = run_batch(env_for(12, 1, object="test/box", skill="open"), RandomPolicy(), 1, "open box", ENSEMBLE)
+    stats = run_batch(
+        env_for(12, 1, object="test/box", skill="open"), RandomPolicy(), 1, "open box", ENSEMBLE
+    )
     assert stats.success.mean() <= 0.1
 
 
@@ -136,8 +144,14 @@ def test_trained_box_teacher_reproduces_its_success_rate():
 
 # ---------------------------------------------------------------- the protocol: records, resume, summaries
 def eval_cfg(tmp_path: Path, overrides: list[str]):
-    base = ["eval/protocol=small", "subset.categories=[box]", "subset.skills=[open]", "episodes_per_batch=2",
-            f"output_dir={tmp_path}", "env.episode_length=40"]
+    base = [
+        "eval/protocol=small",
+        "subset.categories=[box]",
+        "subset.skills=[open]",
+        "episodes_per_batch=2",
+        f"output_dir={tmp_path}",
+        "env.episode_length=40",
+    ]
     return eval_cfg_from_hydra(compose_cfg("eval", [*base, *overrides]))
 
 
@@ -164,33 +178,59 @@ def test_protocol_records_are_seeded_resumable_and_summarised(tmp_path):
 def test_small_protocol_runs_as_written_and_reports_totals_and_eta(tmp_path, capsys):
     """PROTOCOL=small (2 episodes) with the root's episodes_per_batch=10: one batch of 2, the same seeds as an
     explicit episodes_per_batch=2, and the total up front with an ETA per batch."""
-    protocol = ["eval/protocol=small", "eval/policy=random", "subset.categories=[box]", "subset.skills=[open]",
-                "env.episode_length=20"]
+    protocol = [
+        "eval/protocol=small",
+        "eval/policy=random",
+        "subset.categories=[box]",
+        "subset.skills=[open]",
+        "env.episode_length=20",
+    ]
     cfg = eval_cfg_from_hydra(compose_cfg("eval", [*protocol, f"output_dir={tmp_path / 'default'}"]))
     assert cfg.episodes_per_batch == 10 and cfg.batch_size == 2
     evaluate(cfg)
     out = capsys.readouterr().out
-    assert "random on test_objects_test_scenes: 1 combinations x 2 episodes = 2 episodes; 0 done, 2 to run" in out
+    assert (
+        "random on test_objects_test_scenes: 1 combinations x 2 episodes = 2 episodes; 0 done, 2 to run"
+        in out
+    )
     assert "block 0: success" in out and "| 2/2 episodes, " in out and " ETA 0s" in out
-    explicit = eval_cfg_from_hydra(compose_cfg("eval", [*protocol, f"output_dir={tmp_path / 'explicit'}",
-                                                        "episodes_per_batch=2"]))
+    explicit = eval_cfg_from_hydra(
+        compose_cfg("eval", [*protocol, f"output_dir={tmp_path / 'explicit'}", "episodes_per_batch=2"])
+    )
     evaluate(explicit)
     split = "g1/default/test_objects_test_scenes.jsonl"
-    assert [r["seed"] for r in read_records(tmp_path / "default" / split)] == \
-        [r["seed"] for r in read_records(tmp_path / "explicit" / split)]
+    assert [r["seed"] for r in read_records(tmp_path / "default" / split)] == [
+        r["seed"] for r in read_records(tmp_path / "explicit" / split)
+    ]
     evaluate(cfg)  # a finished protocol says so up front and runs nothing
     assert "2 episodes; 2 done, 0 to run" in capsys.readouterr().out
 
 
 def test_tiny_vla_runs_the_protocol_end_to_end(tmp_path):
     root = write_synthetic_dataset(tmp_path / "data", episodes=2, length=20)
-    vla_cfg = vla_cfg_from_hydra(compose_cfg("vla", [
-        "vla/model=tiny", "vla/train=cpu", f"data.root={root}", "data.repo_id=synthetic/g1",
-        f"train.output_dir={tmp_path / 'vla'}", "train.logger=none", "train.progress=false", "train.batch_size=2",
-        "train.steps=2", "data.heldout_episodes=1", "inputs.states=[wrist_pose,grasp_point,goal_point]"]))
+    vla_cfg = vla_cfg_from_hydra(
+        compose_cfg(
+            "vla",
+            [
+                "vla/model=tiny",
+                "vla/train=cpu",
+                f"data.root={root}",
+                "data.repo_id=synthetic/g1",
+                f"train.output_dir={tmp_path / 'vla'}",
+                "train.logger=none",
+                "train.progress=false",
+                "train.batch_size=2",
+                "train.steps=2",
+                "data.heldout_episodes=1",
+                "inputs.states=[wrist_pose,grasp_point,goal_point]",
+            ],
+        )
+    )
     checkpoint = train_vla(vla_cfg).checkpoint
-    cfg = eval_cfg(tmp_path / "results", [f"policy.checkpoint={checkpoint}", "name=tiny_vla", "video_episodes=1",
-                                          "env.episode_length=12"])  # rendered at the dataset's 48 x 64
+    cfg = eval_cfg(
+        tmp_path / "results",
+        [f"policy.checkpoint={checkpoint}", "name=tiny_vla", "video_episodes=1", "env.episode_length=12"],
+    )  # rendered at the dataset's 48 x 64
     summary = evaluate(cfg)
     run = tmp_path / "results" / "g1" / "tiny_vla"
     records = read_records(run / "test_objects_test_scenes.jsonl")

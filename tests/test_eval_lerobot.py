@@ -28,10 +28,20 @@ def save_tiny_act(dataset_root: Path, out: Path) -> Path:
     meta = LeRobotDatasetMetadata("synthetic/g1", root=dataset_root)
     features = dataset_to_policy_features(meta.features)
     inputs = {k: features[k] for k in (HEAD_RGB, schema.STATE)}
-    config = ACTConfig(input_features=inputs, output_features={schema.ACTION: features[schema.ACTION]},
-                       chunk_size=16, n_action_steps=16, pretrained_backbone_weights=None, dim_model=32,
-                       n_heads=2, dim_feedforward=64, n_encoder_layers=1, n_decoder_layers=1, latent_dim=8,
-                       device="cpu")
+    config = ACTConfig(
+        input_features=inputs,
+        output_features={schema.ACTION: features[schema.ACTION]},
+        chunk_size=16,
+        n_action_steps=16,
+        pretrained_backbone_weights=None,
+        dim_model=32,
+        n_heads=2,
+        dim_feedforward=64,
+        n_encoder_layers=1,
+        n_decoder_layers=1,
+        latent_dim=8,
+        device="cpu",
+    )
     policy = ACTPolicy(config)
     pre, post = make_pre_post_processors(config, dataset_stats=meta.stats)
     for part in (policy, pre, post):
@@ -50,10 +60,18 @@ def save_tiny_diffusion(dataset_root: Path, out: Path) -> Path:
 
     meta = LeRobotDatasetMetadata("synthetic/g1", root=dataset_root)
     features = dataset_to_policy_features(meta.features)
-    config = DiffusionConfig(input_features={k: features[k] for k in (HEAD_RGB, schema.STATE)},
-                             output_features={schema.ACTION: features[schema.ACTION]}, n_obs_steps=1, horizon=16,
-                             n_action_steps=8, crop_shape=None, pretrained_backbone_weights=None,
-                             down_dims=(16, 32), num_inference_steps=2, device="cpu")
+    config = DiffusionConfig(
+        input_features={k: features[k] for k in (HEAD_RGB, schema.STATE)},
+        output_features={schema.ACTION: features[schema.ACTION]},
+        n_obs_steps=1,
+        horizon=16,
+        n_action_steps=8,
+        crop_shape=None,
+        pretrained_backbone_weights=None,
+        down_dims=(16, 32),
+        num_inference_steps=2,
+        device="cpu",
+    )
     policy = DiffusionPolicy(config)
     pre, post = make_pre_post_processors(config, dataset_stats=meta.stats)
     for part in (policy, pre, post):
@@ -65,8 +83,12 @@ def test_lerobot_diffusion_policy_gets_one_step_observation_windows(tmp_path):
     data = write_synthetic_dataset(tmp_path / "data", episodes=1, length=20)
     policy = LeRobotEvalPolicy(save_tiny_diffusion(data, tmp_path / "pretrained_model"))
     assert policy.name == "lerobot_diffusion" and policy.windowed and policy.image_size == (48, 64)
-    obs = {HEAD_RGB: np.zeros((2, 48, 64, 3), np.uint8), schema.STATE: np.zeros((2, schema.state_dim(1)), np.float32),
-           "task": ["open box"] * 2, "active": np.array([True, True])}
+    obs = {
+        HEAD_RGB: np.zeros((2, 48, 64, 3), np.uint8),
+        schema.STATE: np.zeros((2, schema.state_dim(1)), np.float32),
+        "task": ["open box"] * 2,
+        "active": np.array([True, True]),
+    }
     chunks = policy.act(obs)
     assert chunks.shape == (2, 8, 7) and np.all(np.isfinite(chunks))
 
@@ -74,7 +96,9 @@ def test_lerobot_diffusion_policy_gets_one_step_observation_windows(tmp_path):
 @pytest.fixture(scope="module")
 def act_dir(tmp_path_factory) -> Path:
     root = tmp_path_factory.mktemp("lerobot")
-    return save_tiny_act(write_synthetic_dataset(root / "data", episodes=1, length=20), root / "pretrained_model")
+    return save_tiny_act(
+        write_synthetic_dataset(root / "data", episodes=1, length=20), root / "pretrained_model"
+    )
 
 
 def test_lerobot_act_policy_runs_through_the_harness(act_dir):
@@ -82,11 +106,17 @@ def test_lerobot_act_policy_runs_through_the_harness(act_dir):
     assert policy.name == "lerobot_act" and policy.action_frame == "base"
     assert policy.inputs == {HEAD_RGB, schema.STATE, "task"} and not policy.windowed
     assert policy.image_size == (48, 64) and policy.action_dim == 7
-    env = MobileManiEnv(EnvCfg(num_envs=2, seed=0, episode_length=6, task=TaskCfg(object="test/box", skill="open")))
+    env = MobileManiEnv(
+        EnvCfg(num_envs=2, seed=0, episode_length=6, task=TaskCfg(object="test/box", skill="open"))
+    )
     stats = run_batch(env, policy, 0, "open box", EnsembleCfg(), image_size=(48, 64))
     assert stats.length.max() <= 6 and stats.success.shape == (2,)
-    obs = {HEAD_RGB: np.zeros((3, 48, 64, 3), np.uint8), schema.STATE: np.zeros((3, schema.state_dim(1)), np.float32),
-           "task": ["open box"] * 3, "active": np.array([True, False, True])}
+    obs = {
+        HEAD_RGB: np.zeros((3, 48, 64, 3), np.uint8),
+        schema.STATE: np.zeros((3, schema.state_dim(1)), np.float32),
+        "task": ["open box"] * 3,
+        "active": np.array([True, False, True]),
+    }
     chunks = policy.act(obs)
     assert chunks.shape == (3, 16, 7) and np.all(chunks[1] == 0) and np.all(np.isfinite(chunks))
 

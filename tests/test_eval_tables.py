@@ -10,20 +10,39 @@ from mobilemani_vla.tables import PROTOCOL_SPLIT, bar_plots, build_tables, load
 def write_run(root: Path, robot: str, run: str, split: str, outcomes: dict[tuple[str, str, str], list[bool]]):
     path = root / robot / run / f"{split}.jsonl"
     path.parent.mkdir(parents=True, exist_ok=True)
-    lines = [json.dumps({"robot": robot, "object_id": obj, "category": obj.split("/")[0], "skill": skill,
-                         "scene": scene, "episode": e, "success": ok})
-             for (obj, skill, scene), results in outcomes.items() for e, ok in enumerate(results)]
+    lines = [
+        json.dumps(
+            {
+                "robot": robot,
+                "object_id": obj,
+                "category": obj.split("/")[0],
+                "skill": skill,
+                "scene": scene,
+                "episode": e,
+                "success": ok,
+            }
+        )
+        for (obj, skill, scene), results in outcomes.items()
+        for e, ok in enumerate(results)
+    ]
     path.write_text("\n".join(lines) + "\n")
 
 
 def test_tables_and_plots_from_results(tmp_path):
     root = tmp_path / "eval"
     # box/0010 open: 3/4; box/0011 open: 1/4 -> box open/pull/pick = mean over objects = 50%.
-    write_run(root, "g1", "default", PROTOCOL_SPLIT, {
-        ("box/0010", "open", "tabletop/16"): [True, True, True, False],
-        ("box/0011", "open", "tabletop/17"): [True, False, False, False],
-        ("box/0010", "close", "tabletop/16"): [True, True, True, True],
-        ("cart/0012", "pull", "space/16"): [False, False]})
+    write_run(
+        root,
+        "g1",
+        "default",
+        PROTOCOL_SPLIT,
+        {
+            ("box/0010", "open", "tabletop/16"): [True, True, True, False],
+            ("box/0011", "open", "tabletop/17"): [True, False, False, False],
+            ("box/0010", "close", "tabletop/16"): [True, True, True, True],
+            ("cart/0012", "pull", "space/16"): [False, False],
+        },
+    )
     write_run(root, "xhand", "default", PROTOCOL_SPLIT, {("box/0010", "close", "tabletop/16"): [False, True]})
     for split, rate in (("train_objects_train_scenes", [True, True]), (PROTOCOL_SPLIT, [True, False])):
         write_run(root, "g1", "ablation_image_all", split, {("laptop/0030", "open", "tabletop/16"): rate})
@@ -39,10 +58,17 @@ def test_tables_and_plots_from_results(tmp_path):
     assert "| Box | 4 | 50.0 | - | 100.0 | 50.0 | 55.0 | 22.5 | 61.9 | 95.0 |" in category
     assert "| Holistic | 18 | - | - | - | - | 28.8 | 40.2 | - | - |" in category
     image = tables["vla_ablation_image"].markdown()
-    assert "| x | x | x | x | x |  |  | 50.0 | 28.2 |" in image and "| x |  |  |  | x |  |  | - | 7.9 |" in image
-    assert "|  |  |  |  |  |  |  | - | 22.4 |" not in tables["vla_ablation_state"].markdown()  # cameras all on
+    assert (
+        "| x | x | x | x | x |  |  | 50.0 | 28.2 |" in image and "| x |  |  |  | x |  |  | - | 7.9 |" in image
+    )
+    assert (
+        "|  |  |  |  |  |  |  | - | 22.4 |" not in tables["vla_ablation_state"].markdown()
+    )  # cameras all on
     splits = tables["vla_seen_unseen"].markdown()
-    assert "| seen objects, seen scenes | 100.0 | 59.6 |" in splits and "| seen objects, unseen scenes | - | 51.3 |" in splits
+    assert (
+        "| seen objects, seen scenes | 100.0 | 59.6 |" in splits
+        and "| seen objects, unseen scenes | - | 51.3 |" in splits
+    )
     models = tables["vla_models"].markdown()
     assert "| MobileManiVLA | 50.0 | 28.2 |" in models and "| lerobot_act | 0.0 | - |" in models
     latex = tables["vla_by_skill"].latex()
@@ -57,7 +83,9 @@ def test_tables_name_the_results_they_miss(tmp_path, monkeypatch, capsys):
     """Results under another run name than --main: every table still prints, and the missing files are named."""
     root = tmp_path / "eval"
     write_run(root, "g1", "vla_open", PROTOCOL_SPLIT, {("box/0010", "open", "tabletop/16"): [True, False]})
-    monkeypatch.setattr("sys.argv", ["tables", str(root), "--out", str(tmp_path / "out"), "--main", "default"])
+    monkeypatch.setattr(
+        "sys.argv", ["tables", str(root), "--out", str(tmp_path / "out"), "--main", "default"]
+    )
     vla_tables.main()
     out = capsys.readouterr().out
     assert f"results under {root}: g1/vla_open/{PROTOCOL_SPLIT}" in out and "| vla_open | 50.0 | - |" in out

@@ -35,15 +35,24 @@ SIZE = 64
 @pytest.fixture(scope="module")
 def recorded(tmp_path_factory):
     """(exported dataset, episode metadata, the observer's observations per control step)."""
-    cfg = tiny_cfg(tmp_path_factory.mktemp("parity"), "subset.objects=[test/box]", "subset.skills=[open]",
-                   "subset.scenes_per_object=1", "subset.episodes=1", "collect.num_envs=2", "export.crf=10",
-                   f"export.width={SIZE}", f"export.height={SIZE}")
+    cfg = tiny_cfg(
+        tmp_path_factory.mktemp("parity"),
+        "subset.objects=[test/box]",
+        "subset.skills=[open]",
+        "subset.scenes_per_object=1",
+        "subset.episodes=1",
+        "collect.num_envs=2",
+        "export.crf=10",
+        f"export.width={SIZE}",
+        f"export.height={SIZE}",
+    )
     observed: list[dict] = []
 
     def watched_teacher(*args, **kwargs) -> Teacher:
         teacher = build_teacher(*args, **kwargs)
-        builder = ObservationBuilder(teacher.env, frozenset(IMAGE_KEYS) | frozenset(VECTORS) | {TASK}, "", SIZE,
-                                     SIZE)
+        builder = ObservationBuilder(
+            teacher.env, frozenset(IMAGE_KEYS) | frozenset(VECTORS) | {TASK}, "", SIZE, SIZE
+        )
 
         def policy() -> np.ndarray:  # called in the state the recorder has just snapshotted
             obs = builder(np.ones(teacher.env.num_envs, dtype=bool))
@@ -71,7 +80,9 @@ def test_exported_vectors_equal_the_observers(recorded):
     for i in range(episode["length"]):
         frame = dataset[i]
         for key in VECTORS:
-            np.testing.assert_array_equal(frame[key].numpy(), observed[i + 1][key][slot], err_msg=f"{key} frame {i}")
+            np.testing.assert_array_equal(
+                frame[key].numpy(), observed[i + 1][key][slot], err_msg=f"{key} frame {i}"
+            )
 
 
 def test_exported_images_match_the_observers_within_codec_error(recorded):
@@ -84,21 +95,25 @@ def test_exported_images_match_the_observers_within_codec_error(recorded):
             live = observed[i + 1][key][slot].astype(np.float64)
             assert live.std() > 0, f"{key} frame {i} is blank"
             error = np.abs(decoded - live)
-            assert error.mean() < 4.0 and np.percentile(error, 99) < 40.0, f"{key} frame {i}: {error.mean():.2f}"
+            assert error.mean() < 4.0 and np.percentile(error, 99) < 40.0, (
+                f"{key} frame {i}: {error.mean():.2f}"
+            )
 
 
 def test_state_encoding_is_continuous_and_unclipped(recorded):
     """The wrist rotation has no wrap (6D, unit columns, smooth along the episode) and the project's global
     normalisation bounds clip < 1% of the training values of every state and action dimension."""
     dataset, _, _ = recorded
-    cfg = VLACfg(data=VLADataCfg(root=str(dataset.root), repo_id=dataset.repo_id, heldout_episodes=0),
-                 inputs=InputsCfg(cameras=["head_rgb"], states=list(STATES)))
+    cfg = VLACfg(
+        data=VLADataCfg(root=str(dataset.root), repo_id=dataset.repo_id, heldout_episodes=0),
+        inputs=InputsCfg(cameras=["head_rgb"], states=list(STATES)),
+    )
     data = open_data(cfg, 32, progress=False)
     rows = data.table.rows(data.train_episodes)
     normalizer = fit_normalizer(data.table, rows, cfg.inputs.states)
     for key in normalizer.bounds:
         assert normalizer.clipped_fraction(key, data.table.columns[key][rows]) < 0.01, key
-    pose = data.table.columns[schema.STATE][rows][:, :schema.WRIST_POSE_DIM]
+    pose = data.table.columns[schema.STATE][rows][:, : schema.WRIST_POSE_DIM]
     np.testing.assert_allclose(np.linalg.norm(pose[:, 3:6], axis=1), 1.0, atol=1e-5)
     np.testing.assert_allclose(np.linalg.norm(pose[:, 6:9], axis=1), 1.0, atol=1e-5)
     assert np.abs(np.diff(pose, axis=0)).max() < 0.1  # one control step moves the wrist a few mm / degrees

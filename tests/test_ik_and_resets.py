@@ -36,7 +36,9 @@ def test_ik_reaches_wrist_target_within_1cm_3deg_in_60_steps(robot):
         env.step(actions)
     pos, quat = _hand_pose(env)
     position_error = np.linalg.norm(target_pos - pos, axis=1)
-    angle_error = np.degrees(np.linalg.norm(axis_angle_from_quat(quat_mul(target_quat, quat_conj(quat))), axis=1))
+    angle_error = np.degrees(
+        np.linalg.norm(axis_angle_from_quat(quat_mul(target_quat, quat_conj(quat))), axis=1)
+    )
     assert position_error.max() < 0.01, position_error
     assert angle_error.max() < 3.0, angle_error
 
@@ -90,7 +92,9 @@ def test_reset_ranges_close_and_pick():
     pick = MobileManiEnv(EnvCfg(num_envs=256, seed=2, task=TaskCfg(object="test/can", skill="pick")))
     pick.reset()
     q = pick.index.object_free_qpos
-    yaw = np.degrees(_yaw_of(pick.view.qpos[:, q + 3:q + 7]))
+    yaw = np.degrees(_yaw_of(pick.view.qpos[:, q + 3 : q + 7]))
     assert np.abs(yaw).max() <= 90.0 and np.ptp(yaw) > 120
     np.testing.assert_allclose(pick.view.qpos[:, q + 1], 0.1)  # constant +0.1 m y offset
-    np.testing.assert_allclose(pick.goal_pos - pick.frames.grasp_pos, np.tile([0, 0, 0.2], (256, 1)), atol=2e-3)
+    np.testing.assert_allclose(
+        pick.goal_pos - pick.frames.grasp_pos, np.tile([0, 0, 0.2], (256, 1)), atol=2e-3
+    )

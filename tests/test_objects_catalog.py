@@ -13,10 +13,26 @@ from mobilemani_rl.assets.objects.catalog import make_object
 from mobilemani_rl.registry import UnknownNameError
 
 EXPECTED = {  # docs/reference.md §6f: train + test per category
-    "box": (10, 4), "toilet": (25, 5), "laptop": (30, 6), "trashcan": (30, 7), "dishwasher": (20, 5),
-    "oven": (10, 2), "microwave": (3, 2), "refrigerator": (40, 12), "washing_machine": (10, 2), "car": (10, 2),
-    "safe": (15, 4), "fridge": (8, 2), "cabinet": (20, 2), "window": (15, 3), "lever_door": (18, 4),
-    "round_door": (20, 5), "faucet": (60, 18), "table": (90, 18), "cart": (12, 4), "holistic": (60, 18),
+    "box": (10, 4),
+    "toilet": (25, 5),
+    "laptop": (30, 6),
+    "trashcan": (30, 7),
+    "dishwasher": (20, 5),
+    "oven": (10, 2),
+    "microwave": (3, 2),
+    "refrigerator": (40, 12),
+    "washing_machine": (10, 2),
+    "car": (10, 2),
+    "safe": (15, 4),
+    "fridge": (8, 2),
+    "cabinet": (20, 2),
+    "window": (15, 3),
+    "lever_door": (18, 4),
+    "round_door": (20, 5),
+    "faucet": (60, 18),
+    "table": (90, 18),
+    "cart": (12, 4),
+    "holistic": (60, 18),
 }
 
 
@@ -36,7 +52,9 @@ def test_split_layout_follows_the_reference_lists():
 def test_all_objects_compile_with_the_interface_the_env_reads():
     for oid, obj in CATALOG.items():
         model = obj.build_spec().compile()
-        assert model.body(1).name == "object" and model.site("grasp").bodyid[0] == model.body(obj.grasp_body).id
+        assert (
+            model.body(1).name == "object" and model.site("grasp").bodyid[0] == model.body(obj.grasp_body).id
+        )
         if obj.joint is not None:
             assert model.njnt == 1 and model.jnt_limited[0], oid
             kin = obj.kinematics
@@ -73,8 +91,9 @@ def test_task_table_has_every_valid_combination():
 
 
 def test_cli_list_prints_counts():
-    out = subprocess.run([sys.executable, "-m", "mobilemani_rl.assets", "list"], capture_output=True, text=True,
-                         check=True).stdout
+    out = subprocess.run(
+        [sys.executable, "-m", "mobilemani_rl.assets", "list"], capture_output=True, text=True, check=True
+    ).stdout
     assert "washing_machine" in out and out.splitlines()[-1].split() == ["all", "506", "125", "631"]
     assert SPLITS == ("train", "test")
 
@@ -82,6 +101,20 @@ def test_cli_list_prints_counts():
 @pytest.mark.slow
 def test_cli_preview_writes_a_contact_sheet(tmp_path):
     out = tmp_path / "sheet.png"
-    subprocess.run([sys.executable, "-m", "mobilemani_rl.assets", "preview", "--out", str(out), "--per-category", "1",
-                    "--size", "64"], check=True, capture_output=True)
+    subprocess.run(
+        [
+            sys.executable,
+            "-m",
+            "mobilemani_rl.assets",
+            "preview",
+            "--out",
+            str(out),
+            "--per-category",
+            "1",
+            "--size",
+            "64",
+        ],
+        check=True,
+        capture_output=True,
+    )
     assert out.stat().st_size > 10_000

@@ -61,7 +61,9 @@ def tabletop_env(request):
     patch = pytest.MonkeyPatch()
     patch.setattr(scene_module, "add_scene", add_scene_and_probe)
     try:
-        env = MobileManiEnv(EnvCfg(num_envs=1, seed=3, task=TaskCfg("g1", "test/box", "open", scene="tabletop/02")))
+        env = MobileManiEnv(
+            EnvCfg(num_envs=1, seed=3, task=TaskCfg("g1", "test/box", "open", scene="tabletop/02"))
+        )
     finally:
         patch.undo()
     env.reset()

@@ -20,11 +20,25 @@ def make_frames(palm, fingers, grasp, palm_quat=PALM_FORWARD, bodies=None) -> Fr
     bodies = np.array([bodies if bodies is not None else [[0.0, -1.0, 0.5]] * 2], float)
     zeros3 = np.zeros((1, 3))
     return Frames(
-        palm_pos=palm, palm_quat=palm_quat, palm_linvel=zeros3, palm_angvel=zeros3,
-        finger_pos=fingers, finger_quat=np.tile(IDENTITY, (1, nf, 1)), finger_linvel=np.zeros((1, nf, 3)),
-        finger_angvel=np.zeros((1, nf, 3)), body_pos=bodies, hand_pos=palm, hand_quat=palm_quat,
-        base_pos=zeros3, base_quat=IDENTITY, grasp_pos=grasp, grasp_quat=IDENTITY, grasp_linvel=zeros3,
-        joint_pos=np.zeros((1, 10)), joint_vel=np.zeros((1, 10)), joint_acc=np.zeros((1, 10)),
+        palm_pos=palm,
+        palm_quat=palm_quat,
+        palm_linvel=zeros3,
+        palm_angvel=zeros3,
+        finger_pos=fingers,
+        finger_quat=np.tile(IDENTITY, (1, nf, 1)),
+        finger_linvel=np.zeros((1, nf, 3)),
+        finger_angvel=np.zeros((1, nf, 3)),
+        body_pos=bodies,
+        hand_pos=palm,
+        hand_quat=palm_quat,
+        base_pos=zeros3,
+        base_quat=IDENTITY,
+        grasp_pos=grasp,
+        grasp_quat=IDENTITY,
+        grasp_linvel=zeros3,
+        joint_pos=np.zeros((1, 10)),
+        joint_vel=np.zeros((1, 10)),
+        joint_acc=np.zeros((1, 10)),
     )
 
 
@@ -37,8 +51,9 @@ def evaluate(frames, actions, goal, d0=0.3, palm_rot_target=None):
 
 def test_reach_phase_terms():
     # Palm 0.5 m behind the grasp point along -y, palm already pointing +y; fingers around the palm.
-    frames = make_frames(palm=[0, -0.5, 0.8], fingers=[[0, -0.5, 0.8], [0, -0.5, 0.78], [0, -0.5, 0.82]],
-                         grasp=[0, 0, 0.8])
+    frames = make_frames(
+        palm=[0, -0.5, 0.8], fingers=[[0, -0.5, 0.8], [0, -0.5, 0.78], [0, -0.5, 0.82]], grasp=[0, 0, 0.8]
+    )
     actions = [0.2, 0.5, 0.0, 0.1, 0.0, 0.0, 0.4]
     terms, d, grasped = evaluate(frames, actions, goal=[0, 0, 1.0], d0=0.2)
     assert not grasped[0]
@@ -53,21 +68,30 @@ def test_reach_phase_terms():
     assert terms["diff_hand_finger_object"][0] == pytest.approx((0.5 + 2 * np.hypot(0.5, 0.02)) / 3)
     assert terms["diff_hand_body_object"][0] == pytest.approx(np.hypot(1.0, 0.3))
     assert terms["diff_object_goal"][0] == pytest.approx(0.2 / 0.2)
-    for name in ("bonus_grasp_object", "diff_move_pos_action", "diff_move_rot_action", "bonus_object_goal",
-                 "diff_reach_palm_rot_action"):
+    for name in (
+        "bonus_grasp_object",
+        "diff_move_pos_action",
+        "diff_move_rot_action",
+        "bonus_object_goal",
+        "diff_reach_palm_rot_action",
+    ):
         assert terms[name][0] == 0.0, name
 
 
 def test_reach_rotation_target_is_clipped_euler_of_shortest_arc():
     # Palm pointing up (+z): the rotation onto +y is -90° about x, clipped to -1.
-    frames = make_frames(palm=[0, -0.5, 0.8], fingers=[[0, -0.5, 0.8]] * 3, grasp=[0, 0, 0.8], palm_quat=IDENTITY)
+    frames = make_frames(
+        palm=[0, -0.5, 0.8], fingers=[[0, -0.5, 0.8]] * 3, grasp=[0, 0, 0.8], palm_quat=IDENTITY
+    )
     terms, _, _ = evaluate(frames, [0, 0, 0, 0, 0, 0, 1.0], goal=[0, 0, 1.0])
     assert terms["diff_reach_rot_action"][0] == pytest.approx(1.0)
 
 
 def test_grasp_phase_terms_and_bonuses():
     grasp = [0.0, 0.0, 0.8]
-    frames = make_frames(palm=[0, -0.01, 0.8], fingers=[[0, -0.01, 0.8], [0, 0, 0.77], [0, 0, 0.83]], grasp=grasp)
+    frames = make_frames(
+        palm=[0, -0.01, 0.8], fingers=[[0, -0.01, 0.8], [0, 0, 0.77], [0, 0, 0.83]], grasp=grasp
+    )
     goal = [0.0, 0.03, 0.82]  # within 5 cm: success, goal bonus
     actions = [0.0, 0.1, 0.0, 0.0, 0.0, 0.0, -1.0]
     terms, d, grasped = evaluate(frames, actions, goal=goal, d0=0.3)
@@ -91,14 +115,17 @@ def test_move_rotation_target_points_palm_against_the_motion():
 
 def test_grasp_flag_needs_palm_thumb_and_fingers_close():
     cfg = SuccessCfg()
-    far_thumb = make_frames(palm=[0, -0.05, 0.8], fingers=[[0, -0.05, 0.8], [0, 0, 0.8], [0, 0, 0.95]],
-                            grasp=[0, 0, 0.8])
+    far_thumb = make_frames(
+        palm=[0, -0.05, 0.8], fingers=[[0, -0.05, 0.8], [0, 0, 0.8], [0, 0, 0.95]], grasp=[0, 0, 0.8]
+    )
     d = TaskDistances.measure(far_thumb, np.zeros((1, 3)))
     assert d.thumb[0] == pytest.approx(0.15) and not grasp_flag(d, cfg)[0]
 
 
 def test_palm_rotation_term_uses_pitch_of_target_relative_rotation():
-    frames = make_frames(palm=[0, -0.5, 0.8], fingers=[[0, -0.5, 0.8]] * 3, grasp=[0, 0, 0.8], palm_quat=IDENTITY)
+    frames = make_frames(
+        palm=[0, -0.5, 0.8], fingers=[[0, -0.5, 0.8]] * 3, grasp=[0, 0, 0.8], palm_quat=IDENTITY
+    )
     target = quat_from_euler(np.array([[0.0, 0.4, 0.0]]))  # q_rot90 ⊗ q_palm⁻¹ has pitch 0.4
     terms, _, _ = evaluate(frames, [0, 0, 0, 0, 0.1, 0, 1.0], goal=[0, 0, 1.0], palm_rot_target=target)
     assert terms["diff_reach_palm_rot_action"][0] == pytest.approx(0.3)

@@ -24,8 +24,9 @@ def test_tables_from_evaluation_files(tmp_path, monkeypatch, capsys):
         run_dir = tmp_path / run
         run_dir.mkdir(parents=True)
         entries = {oid: {"split": "train", "success_rate": rate} for oid, rate in objects.items()}
-        (run_dir / "eval_model_9_0.json").write_text(json.dumps(
-            {"task": {"robot": robot, "object": "x", "skill": skill}, "objects": entries}))
+        (run_dir / "eval_model_9_0.json").write_text(
+            json.dumps({"task": {"robot": robot, "object": "x", "skill": skill}, "objects": entries})
+        )
 
     write("a", "g1", "open", {"box/0000": 1.0, "box/0001": 0.5})
     write("b", "xhand", "close", {"laptop/0000": 0.25})

@@ -50,26 +50,40 @@ def test_resume_with_another_config_is_refused(tmp_path):
     train(compose_rl(["rl/ppo=tiny", f"run_dir={run_dir}", "rl.ppo.max_iterations=1"]))
     (run_dir / "result.json").unlink()  # pretend it was interrupted
     with pytest.raises(ConfigMismatchError, match="different rl config"):
-        train(compose_rl(["rl/ppo=tiny", f"run_dir={run_dir}", "rl.ppo.max_iterations=1",
-                          "rl.ppo.learning_rate=0.1"]))
+        train(
+            compose_rl(
+                ["rl/ppo=tiny", f"run_dir={run_dir}", "rl.ppo.max_iterations=1", "rl.ppo.learning_rate=0.1"]
+            )
+        )
     train(compose_rl(["rl/ppo=tiny", f"run_dir={run_dir}", "rl.ppo.max_iterations=1"]))  # finishes it
     with pytest.raises(ConfigMismatchError, match="different rl config"):  # not "nothing to do"
-        train(compose_rl(["rl/ppo=tiny", f"run_dir={run_dir}", "rl.ppo.max_iterations=1",
-                          "rl.ppo.learning_rate=0.1"]))
+        train(
+            compose_rl(
+                ["rl/ppo=tiny", f"run_dir={run_dir}", "rl.ppo.max_iterations=1", "rl.ppo.learning_rate=0.1"]
+            )
+        )
 
 
 def test_a_run_that_stopped_before_its_first_checkpoint_takes_the_corrected_config(tmp_path):
     run_dir = tmp_path / "run"
-    save_or_check_config(run_dir, compose_rl(["rl/ppo=tiny", f"run_dir={run_dir}", "rl.ppo.learning_rate=-1"]),
-                         ("rl",))  # what a run that crashed at start leaves behind
+    save_or_check_config(
+        run_dir, compose_rl(["rl/ppo=tiny", f"run_dir={run_dir}", "rl.ppo.learning_rate=-1"]), ("rl",)
+    )  # what a run that crashed at start leaves behind
     train(compose_rl(["rl/ppo=tiny", f"run_dir={run_dir}", "rl.ppo.max_iterations=1"]))
     assert (run_dir / "result.json").exists()
 
 
 def test_killed_training_resumes_from_last_checkpoint(tmp_path):
     run_dir = tmp_path / "run"
-    command = [sys.executable, "-m", "mobilemani_rl.train", "rl/ppo=tiny", f"run_dir={run_dir}",
-               "rl.ppo.max_iterations=8", "rl.ppo.num_steps_per_env=32"]
+    command = [
+        sys.executable,
+        "-m",
+        "mobilemani_rl.train",
+        "rl/ppo=tiny",
+        f"run_dir={run_dir}",
+        "rl.ppo.max_iterations=8",
+        "rl.ppo.num_steps_per_env=32",
+    ]
     env = {**os.environ, "PYTHONPATH": str(ROOT)}
     proc = subprocess.Popen(command, cwd=ROOT, env=env, stdout=subprocess.PIPE, stderr=subprocess.STDOUT)
     deadline = time.time() + 120
@@ -91,8 +105,17 @@ def test_killed_training_resumes_from_last_checkpoint(tmp_path):
 
 def test_multi_object_policy_trains_over_a_category_and_evaluates_per_split(tmp_path):
     run_dir = tmp_path / "laptops"
-    train(compose_rl(["rl/ppo=tiny", f"run_dir={run_dir}", "task.object=laptop", "objects_per_policy=2",
-                      "rl.ppo.max_iterations=1"]))
+    train(
+        compose_rl(
+            [
+                "rl/ppo=tiny",
+                f"run_dir={run_dir}",
+                "task.object=laptop",
+                "objects_per_policy=2",
+                "rl.ppo.max_iterations=1",
+            ]
+        )
+    )
     result = evaluate(latest_checkpoint(run_dir), episodes=2, seed=0)
     assert set(result["success_by_split"]) == {"train", "test"}
     assert len(result["objects"]) == 36  # laptop: 30 train + 6 test objects

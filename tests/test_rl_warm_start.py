@@ -16,8 +16,14 @@ from mobilemani_rl.rl.warm_start import collect, discounted_returns, warm_start
 from mobilemani_rl.train import train
 
 ROOT = Path(__file__).resolve().parents[1]
-TINY = ["rl/ppo=tiny", "task.object=test/can", "task.skill=pick", "rl.ppo.warm_start.episodes=8",
-        "rl.ppo.warm_start.epochs=30", "rl.ppo.warm_start.mini_batch_size=256"]
+TINY = [
+    "rl/ppo=tiny",
+    "task.object=test/can",
+    "task.skill=pick",
+    "rl.ppo.warm_start.episodes=8",
+    "rl.ppo.warm_start.epochs=30",
+    "rl.ppo.warm_start.mini_batch_size=256",
+]
 
 
 def compose_rl(overrides: list[str]):
@@ -92,8 +98,9 @@ def _must_not_run(*args, **kwargs):
     raise AssertionError("the finished warm start was redone")
 
 
-def test_a_finished_warm_start_survives_an_interrupt_and_an_unfinished_one_leaves_nothing(tmp_path, monkeypatch,
-                                                                                           capsys):
+def test_a_finished_warm_start_survives_an_interrupt_and_an_unfinished_one_leaves_nothing(
+    tmp_path, monkeypatch, capsys
+):
     run_dir = tmp_path / "run"
     overrides = [*TINY, f"run_dir={run_dir}", "rl.ppo.max_iterations=1"]
     with monkeypatch.context() as patch, pytest.raises(KeyboardInterrupt):

@@ -27,7 +27,11 @@ def test_object_stands_on_the_placement_table():
     assert abs(stage_top - env.placement.support_height).max() < 1e-9
     room = env.model.body_pos[env.model.body(ROOM_BODY).id]
     offsets = env.view.mocap_pos[:, env.room_mocap] - room
-    assert np.all(np.abs(offsets[:, 0]) <= 0.1) and np.all(np.abs(offsets[:, 1]) <= 0.05) and np.ptp(offsets[:, 0]) > 0
+    assert (
+        np.all(np.abs(offsets[:, 0]) <= 0.1)
+        and np.all(np.abs(offsets[:, 1]) <= 0.05)
+        and np.ptp(offsets[:, 0]) > 0
+    )
 
 
 @pytest.mark.slow

@@ -20,12 +20,15 @@ def test_g1_opens_the_box_lid_in_64_seeded_episodes():
     assert success.mean() >= 0.7, success.mean()
 
 
-@pytest.mark.parametrize(("robot", "obj", "skill", "minimum"), [
-    ("xhand", "test/box", "open", 0.7),
-    ("g1", "test/can", "pick", 0.6),
-    ("g1", "test/box", "close", 0.5),
-    ("xhand", "test/box", "close", 0.7),  # measured 0.84 with the open hand pushing the lid shut
-])
+@pytest.mark.parametrize(
+    ("robot", "obj", "skill", "minimum"),
+    [
+        ("xhand", "test/box", "open", 0.7),
+        ("g1", "test/can", "pick", 0.6),
+        ("g1", "test/box", "close", 0.5),
+        ("xhand", "test/box", "close", 0.7),  # measured 0.84 with the open hand pushing the lid shut
+    ],
+)
 def test_scripted_policy_other_tasks(robot, obj, skill, minimum):
     success = scripted_success(robot, obj, skill, 32)
     assert success.mean() >= minimum, success.mean()
@@ -48,7 +51,9 @@ def test_physics_stays_finite_and_contacts_stay_shallow():
             assert np.isfinite(data.qpos).all() and not env.batch.error(i)
             if data.ncon:
                 geoms = data.contact.geom[: data.ncon]
-                held = (is_robot[geoms[:, 0]] & is_object[geoms[:, 1]]) | (is_robot[geoms[:, 1]] & is_object[geoms[:, 0]])
+                held = (is_robot[geoms[:, 0]] & is_object[geoms[:, 1]]) | (
+                    is_robot[geoms[:, 1]] & is_object[geoms[:, 0]]
+                )
                 if held.any():
                     deepest[0] = max(deepest[0], -data.contact.dist[: data.ncon][held].min())
 

@@ -31,8 +31,10 @@ def trained_run(tmp_path_factory) -> tuple[Path, str, str, str]:
     """A tiny PPO run laid out as `make rl` lays it out: <runs_dir>/<robot>/<object>/<skill>."""
     runs_dir = tmp_path_factory.mktemp("runs")
     with initialize_config_dir(config_dir=CONF, version_base="1.3"):
-        cfg = compose(config_name="rl", overrides=["rl/ppo=tiny", f"run_dir={runs_dir / 'g1/test/box/open'}",
-                                                   "eval_episodes=0"])
+        cfg = compose(
+            config_name="rl",
+            overrides=["rl/ppo=tiny", f"run_dir={runs_dir / 'g1/test/box/open'}", "eval_episodes=0"],
+        )
     train(cfg)
     return runs_dir, "g1", "test/box", "open"
 
@@ -71,21 +73,38 @@ def test_collection_falls_back_to_the_category_teacher_and_says_how_to_keep_a_we
     """`make rl OBJECT=box` trains one policy for the category; collection on any box without its own run uses it."""
     runs_dir = tmp_path / "runs"
     with initialize_config_dir(config_dir=CONF, version_base="1.3"):
-        cfg = compose(config_name="rl", overrides=["rl/ppo=tiny", f"run_dir={runs_dir / 'g1/box/open'}",
-                                                   "task.object=box", "objects_per_policy=2",
-                                                   "rl.ppo.max_iterations=1"])
+        cfg = compose(
+            config_name="rl",
+            overrides=[
+                "rl/ppo=tiny",
+                f"run_dir={runs_dir / 'g1/box/open'}",
+                "task.object=box",
+                "objects_per_policy=2",
+                "rl.ppo.max_iterations=1",
+            ],
+        )
     train(cfg)
     object_id = catalog_ids("box", "test")[0]  # never trained on, and no run of its own
     checkpoint = find_teacher_checkpoint(runs_dir, "g1", object_id, "open")
     assert checkpoint.parent == runs_dir / "g1/box/open"
-    data = tiny_cfg(tmp_path / "data", "data/teacher=ppo", f"teacher.runs_dir={runs_dir}", f"subset.objects=[{object_id}]",
-                    "subset.skills=[open]", "subset.scenes_per_object=1")
+    data = tiny_cfg(
+        tmp_path / "data",
+        "data/teacher=ppo",
+        f"teacher.runs_dir={runs_dir}",
+        f"subset.objects=[{object_id}]",
+        "subset.skills=[open]",
+        "subset.scenes_per_object=1",
+    )
     combo = select_combinations(data.robot, data.subset)[0]
     teacher = build_teacher(data.teacher, combo, data.env, 2, seed=0)
-    assert teacher.name == str(checkpoint) and teacher.env.cfg.task.object == object_id  # one object, not the category
+    assert (
+        teacher.name == str(checkpoint) and teacher.env.cfg.task.object == object_id
+    )  # one object, not the category
     assert teacher.policy().shape == (2, teacher.env.num_actions)
 
     result = checkpoint.parent / RESULT
     result.write_text(json.dumps({**json.loads(result.read_text()), "train_success": 0.05}))
-    with pytest.raises(TeacherUnavailable, match=r"0.05 < teacher.min_train_success=0.1 .*teacher.min_train_success=0,"):
+    with pytest.raises(
+        TeacherUnavailable, match=r"0.05 < teacher.min_train_success=0.1 .*teacher.min_train_success=0,"
+    ):
         build_teacher(data.teacher, combo, data.env, 2, seed=0)

@@ -22,7 +22,9 @@ def test_rgb_and_depth_of_a_camera_shift_together_and_depth_keeps_its_values():
     out = augment_images(base, CAMERAS, AugmentCfg(shift=4, brightness=0, contrast=0, saturation=0))
     assert torch.equal(out[:, 0], out[:, 1]) and torch.equal(out[:, 2], out[:, 3])  # aligned per camera
     assert not torch.equal(out[:, 0], out[:, 2])  # cameras shift independently
-    jittered = augment_images(base, CAMERAS, AugmentCfg(shift=0, brightness=0.3, contrast=0.3, saturation=0.3))
+    jittered = augment_images(
+        base, CAMERAS, AugmentCfg(shift=0, brightness=0.3, contrast=0.3, saturation=0.3)
+    )
     assert torch.equal(jittered[:, 1], base[:, 1]) and torch.equal(jittered[:, 3], base[:, 3])
     assert (jittered[:, 0] - base[:, 0]).abs().mean() > 0.01
     assert jittered.min() >= 0 and jittered.max() <= 1

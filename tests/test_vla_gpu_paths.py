@@ -33,9 +33,21 @@ def compose_vla(overrides: list[str]) -> VLACfg:
 def checkpoint(tmp_path_factory) -> Path:
     root = tmp_path_factory.mktemp("gpu_paths")
     data = write_synthetic_dataset(root / "g1", episodes=2, length=20)
-    cfg = compose_vla(["vla/model=tiny", f"data.root={data}", "data.repo_id=synthetic/g1", "data.heldout_episodes=0",
-                       f"train.output_dir={root / 'run'}", "train.logger=none", "train.progress=false",
-                       "train.batch_size=4", "train.steps=2", "train.ema_decay=0", "train.diagnose_every=0"])
+    cfg = compose_vla(
+        [
+            "vla/model=tiny",
+            f"data.root={data}",
+            "data.repo_id=synthetic/g1",
+            "data.heldout_episodes=0",
+            f"train.output_dir={root / 'run'}",
+            "train.logger=none",
+            "train.progress=false",
+            "train.batch_size=4",
+            "train.steps=2",
+            "train.ema_decay=0",
+            "train.diagnose_every=0",
+        ]
+    )
     return train(cfg).checkpoint
 
 
@@ -48,7 +60,9 @@ def test_fsdp_full_state_dict_checkpoint_loads_and_runs_no_code(checkpoint, tmp_
     fsdp = shutil.copytree(checkpoint, tmp_path / "fsdp")
     weights = load_file(fsdp / WEIGHTS)
     (fsdp / WEIGHTS).unlink()
-    torch.save(weights, fsdp / FSDP_WEIGHTS)  # what accelerate's save_state writes under FSDP (FULL_STATE_DICT)
+    torch.save(
+        weights, fsdp / FSDP_WEIGHTS
+    )  # what accelerate's save_state writes under FSDP (FULL_STATE_DICT)
     _, model, _, _ = load_checkpoint(fsdp)
     assert all(torch.equal(model.state_dict()[k], v) for k, v in weights.items())
 
@@ -66,15 +80,21 @@ def test_pretrained_backbone_loads_in_the_configured_dtype_and_feeds_a_float32_h
     torch.manual_seed(0)
     PaliGemmaForConditionalGeneration(paligemma_config(ModelCfg())).save_pretrained(tmp_path)
     build_word_tokenizer().save_pretrained(tmp_path)
-    cfg = compose_vla([f"model.pretrained_path={tmp_path}", f"model.tokenizer_path={tmp_path}",
-                       "model.dtype=bfloat16"])
+    cfg = compose_vla(
+        [f"model.pretrained_path={tmp_path}", f"model.tokenizer_path={tmp_path}", "model.dtype=bfloat16"]
+    )
     model = build_model(cfg, load_tokenizer(tmp_path))
     assert {p.dtype for p in model.backbone.vlm.parameters()} == {torch.bfloat16}
     assert {p.dtype for p in model.head.parameters()} == {torch.float32}
     size = model.backbone.image_size
     enc = build_word_tokenizer()(["open box"] * 2, return_tensors="pt")
-    batch = {"pixel_values": torch.rand(2, 4, 3, size, size), "input_ids": enc["input_ids"],
-             "attention_mask": enc["attention_mask"], "state": torch.zeros(2, 9), "actions": torch.rand(2, 16, 7)}
+    batch = {
+        "pixel_values": torch.rand(2, 4, 3, size, size),
+        "input_ids": enc["input_ids"],
+        "attention_mask": enc["attention_mask"],
+        "state": torch.zeros(2, 9),
+        "actions": torch.rand(2, 16, 7),
+    }
     loss = model(batch)
     assert loss.dtype == torch.float32 and torch.isfinite(loss)
     with pytest.raises(ValueError, match="model.dtype"):

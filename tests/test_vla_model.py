@@ -73,13 +73,16 @@ def test_paligemma2_3b_on_the_meta_device():
 def backbone():
     torch.manual_seed(0)
     tokenizer = build_word_tokenizer()
-    return CognitionBackbone(PaliGemmaModel(paligemma_config(ModelCfg())), tokenizer.eos_token_id).eval(), tokenizer
+    return CognitionBackbone(
+        PaliGemmaModel(paligemma_config(ModelCfg())), tokenizer.eos_token_id
+    ).eval(), tokenizer
 
 
 def test_cognition_token_reads_the_prefix_and_leaves_it_unchanged(backbone):
     model, tokenizer = backbone
-    enc = tokenizer(["open box", "what action should the robot take to pull cart?"], padding=True,
-                    return_tensors="pt")
+    enc = tokenizer(
+        ["open box", "what action should the robot take to pull cart?"], padding=True, return_tensors="pt"
+    )
     pixels = torch.rand(2, 3, 3, 32, 32)
     states = []
     hook = model.vlm.register_forward_hook(lambda m, i, o: states.append(o.last_hidden_state))
@@ -93,7 +96,9 @@ def test_cognition_token_reads_the_prefix_and_leaves_it_unchanged(backbone):
         other[0, 2] = torch.rand(3, 32, 32)
         moved = model(other, enc.input_ids, enc.attention_mask)
     hook.remove()
-    assert states[0].shape[1] == 3 * 16 + enc.input_ids.shape[1] + 1  # K cameras x 16 patches, prompt, cognition
+    assert (
+        states[0].shape[1] == 3 * 16 + enc.input_ids.shape[1] + 1
+    )  # K cameras x 16 patches, prompt, cognition
     assert torch.equal(states[0][:, :-1], states[1][:, :-1])  # the prefix never sees the cognition token
     assert not torch.allclose(states[0][:, -1], states[1][:, -1])
     assert torch.allclose(first[0], alone[0], atol=1e-5)  # left padding does not change the feature

@@ -30,8 +30,17 @@ def dataset_root(tmp_path_factory) -> Path:
 
 
 def tiny_cfg(root: Path, out: Path, overrides: list[str] = ()) -> VLACfg:
-    base = ["vla/model=tiny", "vla/train=cpu", f"data.root={root}", "data.repo_id=synthetic/g1", "data.heldout_episodes=1",
-            f"train.output_dir={out}", "train.logger=none", "train.progress=false", "train.batch_size=4"]
+    base = [
+        "vla/model=tiny",
+        "vla/train=cpu",
+        f"data.root={root}",
+        "data.repo_id=synthetic/g1",
+        "data.heldout_episodes=1",
+        f"train.output_dir={out}",
+        "train.logger=none",
+        "train.progress=false",
+        "train.batch_size=4",
+    ]
     with initialize_config_dir(config_dir=CONF, version_base="1.3"):
         return vla_cfg_from_hydra(compose(config_name="vla", overrides=[*overrides, *base]))
 
@@ -42,7 +51,9 @@ def test_forward_backward_on_a_dataset_batch(dataset_root, tmp_path):
     tokenizer = build_word_tokenizer()
     normalizer = fit_normalizer(data.table, data.table.rows(data.train_episodes), cfg.inputs.states)
     model = build_model(cfg, tokenizer)
-    processor = VLAProcessor(tokenizer, normalizer, cfg.inputs.cameras, cfg.inputs.states, 32, cfg.model.prompt)
+    processor = VLAProcessor(
+        tokenizer, normalizer, cfg.inputs.cameras, cfg.inputs.states, 32, cfg.model.prompt
+    )
     frames = [data.train[i] for i in (0, 7, 18, 19)]  # the last two run past the episode end
     batch = processor(frames)
     assert batch["pixel_values"].shape == (4, 4, 3, 32, 32)
@@ -57,8 +68,12 @@ def test_forward_backward_on_a_dataset_batch(dataset_root, tmp_path):
     torch.nn.init.normal_(model.head.dit.out.weight, std=0.02)  # zero-initialised: no gradient flows back yet
     model.backbone.vlm.gradient_checkpointing_enable()  # the paper config's memory saver keeps gradients flowing
     model(batch).backward()
-    for part in (model.backbone.vlm.vision_tower, model.backbone.vlm.language_model, model.head.dit.blocks,
-                 model.state_encoder):
+    for part in (
+        model.backbone.vlm.vision_tower,
+        model.backbone.vlm.language_model,
+        model.head.dit.blocks,
+        model.state_encoder,
+    ):
         assert any(p.grad is not None and p.grad.abs().sum() > 0 for p in part.parameters())
     assert model.backbone.cognition.grad.abs().sum() > 0
 
@@ -85,20 +100,42 @@ def test_experiment_configs_compose_and_train(experiment, dataset_root, tmp_path
 
 
 def test_checkpoint_resume_and_policy(dataset_root, tmp_path):
-    cfg = tiny_cfg(dataset_root, tmp_path, ["train.steps=3", "train.save_every=2", "train.diagnose_every=2",
-                                            "inputs.states=[wrist_pose,grasp_point,goal_point]"])
+    cfg = tiny_cfg(
+        dataset_root,
+        tmp_path,
+        [
+            "train.steps=3",
+            "train.save_every=2",
+            "train.diagnose_every=2",
+            "inputs.states=[wrist_pose,grasp_point,goal_point]",
+        ],
+    )
     first = train(cfg)
-    assert [p.name for p in sorted((tmp_path / "checkpoints").iterdir())] == ["step_00000002", "step_00000003"]
-    assert {"model.safetensors", "ema.safetensors", "config.yaml", "normalizer.json", "dataset.json", "tokenizer",
-            "backbone_config.json"} <= {p.name for p in first.checkpoint.iterdir()}
-    longer = tiny_cfg(dataset_root, tmp_path, ["train.steps=5", "train.diagnose_every=2",
-                                               "inputs.states=[wrist_pose,grasp_point,goal_point]"])
+    assert [p.name for p in sorted((tmp_path / "checkpoints").iterdir())] == [
+        "step_00000002",
+        "step_00000003",
+    ]
+    assert {
+        "model.safetensors",
+        "ema.safetensors",
+        "config.yaml",
+        "normalizer.json",
+        "dataset.json",
+        "tokenizer",
+        "backbone_config.json",
+    } <= {p.name for p in first.checkpoint.iterdir()}
+    longer = tiny_cfg(
+        dataset_root,
+        tmp_path,
+        ["train.steps=5", "train.diagnose_every=2", "inputs.states=[wrist_pose,grasp_point,goal_point]"],
+    )
     resumed = train(longer)
     assert len(resumed.losses) == 2  # steps 4 and 5 only
     diagnostics = [json.loads(line) for line in (tmp_path / "diagnostics.jsonl").read_text().splitlines()]
     assert [d["step"] for d in diagnostics] == [2, 4]  # held-out diagnostics, none repeated by the resume
     assert {"noise_mse/image", "noise_mse/null_image", "noise_mse/no_state", "open_loop_mse/cfg_1.5"} <= set(
-        diagnostics[-1])
+        diagnostics[-1]
+    )
     assert json.loads((resumed.checkpoint / "trainer_state.json").read_text()) == {"step": 5}
 
     with pytest.raises(ValueError, match="different"):  # same output_dir, other inputs
@@ -126,11 +163,17 @@ def test_checkpoint_resume_and_policy(dataset_root, tmp_path):
 @pytest.mark.slow
 def test_overfitting_one_episode(tmp_path):
     root = write_synthetic_dataset(tmp_path / "one", episodes=1, length=30)
-    cfg = tiny_cfg(root, tmp_path / "out", ["train.steps=500", "train.lr=1e-3", "train.batch_size=8",
-                                             "train.save_every=100000"])
+    cfg = tiny_cfg(
+        root,
+        tmp_path / "out",
+        ["train.steps=500", "train.lr=1e-3", "train.batch_size=8", "train.save_every=100000"],
+    )
     losses = np.array(train(cfg).losses)
     start, end = losses[:5].mean(), losses[-50:].mean()
-    print("mean loss per 50 steps:", np.round([losses[i:i + 50].mean() for i in range(0, 500, 50)], 3).tolist())
+    print(
+        "mean loss per 50 steps:",
+        np.round([losses[i : i + 50].mean() for i in range(0, 500, 50)], 3).tolist(),
+    )
     assert end < 0.1 * start, (start, end)
 
 

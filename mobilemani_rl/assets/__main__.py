@@ -42,14 +42,18 @@ def _run_preview(args: argparse.Namespace) -> None:
     print(contact_sheet(args.out, args.per_category, args.size, args.seed))
 
 
-COMMANDS: dict[str, tuple[str, Callable[[argparse.ArgumentParser], None], Callable[[argparse.Namespace], None]]] = {
+COMMANDS: dict[
+    str, tuple[str, Callable[[argparse.ArgumentParser], None], Callable[[argparse.Namespace], None]]
+] = {
     "list": ("object counts per category and split", _configure_list, _run_list),
     "preview": ("contact sheet of sample objects, closed and opened", _configure_preview, _run_preview),
 }
 
 
 def main(argv: list[str] | None = None) -> None:
-    parser = argparse.ArgumentParser(prog="python -m mobilemani_rl.assets", description=__doc__.splitlines()[0])
+    parser = argparse.ArgumentParser(
+        prog="python -m mobilemani_rl.assets", description=__doc__.splitlines()[0]
+    )
     sub = parser.add_subparsers(dest="command", required=True)
     for name, (help_text, configure, _) in COMMANDS.items():
         configure(sub.add_parser(name, help=help_text))

@@ -11,8 +11,10 @@ def checked_actions(actions: np.ndarray, num_envs: int, action_dim: int) -> tupl
     error: numpy would broadcast a single row, or a (num_envs, 1) column, to every env and joint."""
     actions = np.asarray(actions, dtype=np.float64)
     if actions.shape != (num_envs, action_dim):
-        raise ValueError(f"actions must have shape (num_envs, action_dim) = ({num_envs}, {action_dim}), "
-                         f"got {actions.shape}")
+        raise ValueError(
+            f"actions must have shape (num_envs, action_dim) = ({num_envs}, {action_dim}), "
+            f"got {actions.shape}"
+        )
     nan = np.isnan(actions)
     return np.where(nan, 0.0, np.clip(actions, -1.0, 1.0)), nan.sum(axis=1)
 

@@ -111,5 +111,7 @@ class EnvCfg:
 
 def env_cfg_from_hydra(cfg: DictConfig) -> EnvCfg:
     """Build the EnvCfg from a composed root config (`env` block + `task` block); unknown keys are errors."""
-    merged = OmegaConf.merge(OmegaConf.structured(EnvCfg), {**OmegaConf.to_container(cfg.env), "task": cfg.task})
+    merged = OmegaConf.merge(
+        OmegaConf.structured(EnvCfg), {**OmegaConf.to_container(cfg.env), "task": cfg.task}
+    )
     return OmegaConf.to_object(merged)

@@ -86,8 +86,9 @@ class FrameReader:
         self.site_roots = view.body_rootid[self.site_bodies]
         # Hand and base positions; hand, base and grasp-link orientations, then the fingers'.
         self.link_pos_bodies = np.array([index.hand_body, index.base_body])
-        self.link_quat_bodies = np.concatenate(([index.hand_body, index.base_body, index.grasp_body],
-                                                self.site_bodies[1:-1]))
+        self.link_quat_bodies = np.concatenate(
+            ([index.hand_body, index.base_body, index.grasp_body], self.site_bodies[1:-1])
+        )
         self.active_bodies = index.active_bodies
         self.active_qpos = np.concatenate((index.ik_qpos, index.hand_qpos))
         self.active_dof = np.concatenate((index.ik_dof, index.hand_dof))

@@ -19,7 +19,9 @@ def wrist_pose_error(actions: np.ndarray, pos_scale: float, rot_scale: float) ->
     return np.concatenate((actions[:, 0:3] * pos_scale, axis_angle_from_quat(rotation)), axis=1)
 
 
-def chain_jacobian(point: np.ndarray, anchors: np.ndarray, axes: np.ndarray, is_hinge: np.ndarray) -> np.ndarray:
+def chain_jacobian(
+    point: np.ndarray, anchors: np.ndarray, axes: np.ndarray, is_hinge: np.ndarray
+) -> np.ndarray:
     """Geometric Jacobian (n, 6, k) of a world point moved by a serial chain of 1-DoF joints.
 
     anchors/axes: (n, k, 3) world joint anchors and unit axes (MuJoCo's xanchor/xaxis). Hinge column:

@@ -49,18 +49,24 @@ class MobileManiEnv:
     """Batched env for one (robot, object, skill) task."""
 
     def __init__(self, cfg: EnvCfg) -> None:
-        check_positive({"num_envs": cfg.num_envs})  # MuJoCo's own message ("nsim must be positive") names no key
+        check_positive(
+            {"num_envs": cfg.num_envs}
+        )  # MuJoCo's own message ("nsim must be positive") names no key
         self.cfg = cfg
         self.robot = get_robot(cfg.task.robot)
         self.object = get_object(cfg.task.object)
         self.skill = check_skill(self.object, cfg.task.skill)
         self.placement = get_placement(cfg.task.scene) if cfg.task.scene else None
         self.model, self.index = build_scene(self.robot, self.object, cfg.physics, cfg.reset, self.placement)
-        self.room_mocap = int(self.model.body_mocapid[self.model.body(ROOM_BODY).id]) if self.placement else -1
+        self.room_mocap = (
+            int(self.model.body_mocapid[self.model.body(ROOM_BODY).id]) if self.placement else -1
+        )
         self.num_envs = cfg.num_envs
         self.num_actions = self.robot.action_dim
         self.max_episode_length = cfg.episode_length
-        self.batch = mujoco.batch.Batch(self.model, cfg.num_envs, nthread=cfg.physics.nthread, persistent=True)
+        self.batch = mujoco.batch.Batch(
+            self.model, cfg.num_envs, nthread=cfg.physics.nthread, persistent=True
+        )
         self.view = SimView(self.batch, self.model)
         self.frame_reader = FrameReader(self.view, self.index)
         self.rng = np.random.default_rng(cfg.seed)
@@ -68,10 +74,12 @@ class MobileManiEnv:
         idx = self.index
         self.joint_limits = np.concatenate((idx.ik_limits, idx.hand_limits))
         default = dict(zip(idx.robot_qpos.tolist(), idx.robot_default_qpos.tolist(), strict=True))
-        self.default_hand_action = normalize_to_limits(np.array([default[q] for q in idx.hand_qpos]),
-                                                       idx.hand_limits)
-        self.num_obs = observation_dim(self.num_actions, len(idx.finger_sites), len(idx.active_bodies),
-                                       len(self.joint_limits))
+        self.default_hand_action = normalize_to_limits(
+            np.array([default[q] for q in idx.hand_qpos]), idx.hand_limits
+        )
+        self.num_obs = observation_dim(
+            self.num_actions, len(idx.finger_sites), len(idx.active_bodies), len(self.joint_limits)
+        )
         self.use_palm_rotation = (self.object.category, self.skill) in PALM_ROTATION_TASKS
         n = self.num_envs
         self.episode_length_buf = np.zeros(n, dtype=np.int64)  # may be randomised by a trainer
@@ -98,8 +106,9 @@ class MobileManiEnv:
 
     def _reset_envs(self, ids: np.ndarray) -> None:
         idx, v = self.index, self.view
-        start = sample_episode_start(self.rng, len(ids), self.robot, self.object, self.skill, self.cfg.reset,
-                                     self.placement)
+        start = sample_episode_start(
+            self.rng, len(ids), self.robot, self.object, self.skill, self.cfg.reset, self.placement
+        )
         rows = ids[:, None]
         v.qpos[rows, idx.robot_qpos] = idx.robot_default_qpos
         v.qvel[ids] = 0.0
@@ -112,8 +121,8 @@ class MobileManiEnv:
             v.mocap_quat[ids, idx.object_mocap] = start.object_quat
         else:
             q = idx.object_free_qpos
-            v.qpos[ids, q:q + 3] = start.object_pos
-            v.qpos[ids, q + 3:q + 7] = start.object_quat
+            v.qpos[ids, q : q + 3] = start.object_pos
+            v.qpos[ids, q + 3 : q + 7] = start.object_quat
         if idx.object_joint_qpos >= 0:
             v.qpos[ids, idx.object_joint_qpos] = start.joint_value
         if self.room_mocap >= 0:
@@ -145,11 +154,14 @@ class MobileManiEnv:
         number of NaN entries per env."""
         idx, v, acfg = self.index, self.view, self.cfg.actions
         actions, nan_count = checked_actions(actions, self.num_envs, self.num_actions)
-        jacobian = chain_jacobian(self.frames.hand_pos, v.xanchor[:, idx.ik_joint], v.xaxis[:, idx.ik_joint],
-                                  idx.ik_is_hinge)
+        jacobian = chain_jacobian(
+            self.frames.hand_pos, v.xanchor[:, idx.ik_joint], v.xaxis[:, idx.ik_joint], idx.ik_is_hinge
+        )
         error = wrist_pose_error(actions, acfg.pos_scale, acfg.rot_scale)
         q = v.qpos[:, idx.ik_qpos]
-        targets = np.clip(q + dls_step(jacobian, error, acfg.ik_damping), idx.ik_limits[:, 0], idx.ik_limits[:, 1])
+        targets = np.clip(
+            q + dls_step(jacobian, error, acfg.ik_damping), idx.ik_limits[:, 0], idx.ik_limits[:, 1]
+        )
         low, high = idx.hand_limits[:, 0], idx.hand_limits[:, 1]
         hand = low + 0.5 * (actions[:, 6:] + 1.0) * (high - low)
         v.ctrl[:, idx.ik_act] = targets
@@ -168,21 +180,30 @@ class MobileManiEnv:
         dist = self.task_distances = TaskDistances.measure(frames, self.goal_pos)
         # Truncation reads the success counter before this step's success is added (docs/reference.md §5c).
         truncated = (self.episode_length_buf >= self.max_episode_length - 1) | (
-            self.success_count >= scfg.hold_steps)
-        terminated = (dist.hand > scfg.max_hand_distance) | (
-            vector_norm(frames.palm_linvel) > scfg.max_speed) | (
-            vector_norm(frames.grasp_linvel) > scfg.max_speed)
+            self.success_count >= scfg.hold_steps
+        )
+        terminated = (
+            (dist.hand > scfg.max_hand_distance)
+            | (vector_norm(frames.palm_linvel) > scfg.max_speed)
+            | (vector_norm(frames.grasp_linvel) > scfg.max_speed)
+        )
         terminated &= ~truncated
         grasped = grasp_flag(dist, scfg)
         success = dist.goal < scfg.threshold
         self.success_count += success
         self.success_flag |= success
-        ctx = RewardContext(self.goal_pos, self.goal_scale, self.default_hand_action,
-                            self.palm_rot_target if self.use_palm_rotation else None)
+        ctx = RewardContext(
+            self.goal_pos,
+            self.goal_scale,
+            self.default_hand_action,
+            self.palm_rot_target if self.use_palm_rotation else None,
+        )
         terms = reward_terms(frames, actions, ctx, dist, grasped, scfg)
         reward, weighted = total_reward(terms, self.cfg.rewards, self.cfg.reward_clip)
         means = np.mean(list(weighted.values()), axis=1)  # one reduction for all terms
-        log: dict[str, float | np.ndarray] = {f"/reward/{k}": float(m) for k, m in zip(weighted, means, strict=True)}
+        log: dict[str, float | np.ndarray] = {
+            f"/reward/{k}": float(m) for k, m in zip(weighted, means, strict=True)
+        }
         log["/task/grasp"] = float(grasped.mean())
         log["/task/success"] = float(success.mean())
         # Episode statistics over episodes that ended by truncation, as the reference's training log.
@@ -197,16 +218,24 @@ class MobileManiEnv:
         if done.size:
             self._reset_envs(done)
         self.obs = self._observe()
-        return StepResult(self.obs, reward, terminated, truncated, success_flag, final_obs, done, weighted, log,
-                          nan_count)
+        return StepResult(
+            self.obs, reward, terminated, truncated, success_flag, final_obs, done, weighted, log, nan_count
+        )
 
     def _observe(self, ids: np.ndarray | None = None) -> np.ndarray:
         if ids is None:
             frames, distances, ids = self.frames, self.task_distances, slice(None)
         else:
             frames, distances = self.frames.rows(ids), self.task_distances.rows(ids)
-        return compute_observation(frames, distances, self.env_times[ids], self.last_action[ids], self.goal_pos[ids],
-                                   self.joint_limits, self.cfg.obs_clip)
+        return compute_observation(
+            frames,
+            distances,
+            self.env_times[ids],
+            self.last_action[ids],
+            self.goal_pos[ids],
+            self.joint_limits,
+            self.cfg.obs_clip,
+        )
 
     # ------------------------------------------------------------------ queries
     def distances(self) -> TaskDistances:

@@ -22,8 +22,11 @@ class MultiObjectEnv:
         self.cfg = cfg
         sizes = np.diff(np.linspace(0, cfg.num_envs, len(object_ids) + 1).astype(int))
         self.envs = [
-            MobileManiEnv(dataclasses.replace(cfg, num_envs=int(size), seed=cfg.seed + i,
-                                              task=dataclasses.replace(cfg.task, object=oid)))
+            MobileManiEnv(
+                dataclasses.replace(
+                    cfg, num_envs=int(size), seed=cfg.seed + i, task=dataclasses.replace(cfg.task, object=oid)
+                )
+            )
             for i, (oid, size) in enumerate(zip(object_ids, sizes, strict=True))
         ]
         self.bounds = np.concatenate(([0], np.cumsum(sizes)))
@@ -45,7 +48,9 @@ class MultiObjectEnv:
             env.episode_length_buf[:] = value[lo:hi]
 
     def reset(self, seed: int | None = None) -> np.ndarray:
-        self.obs = np.concatenate([env.reset(None if seed is None else seed + i) for i, env in enumerate(self.envs)])
+        self.obs = np.concatenate(
+            [env.reset(None if seed is None else seed + i) for i, env in enumerate(self.envs)]
+        )
         return self.obs
 
     def step(self, actions: np.ndarray) -> StepResult:
@@ -67,7 +72,9 @@ class MultiObjectEnv:
             success_flag=np.concatenate([p.success_flag for p in parts]),
             final_obs=np.concatenate([p.final_obs for p in parts]),
             done_ids=np.concatenate([p.done_ids + lo for p, lo in zip(parts, self.bounds[:-1], strict=True)]),
-            reward_terms={k: np.concatenate([p.reward_terms[k] for p in parts]) for k in parts[0].reward_terms},
+            reward_terms={
+                k: np.concatenate([p.reward_terms[k] for p in parts]) for k in parts[0].reward_terms
+            },
             log=log,
             nan_actions=np.concatenate([p.nan_actions for p in parts]),
         )

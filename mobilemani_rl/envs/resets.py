@@ -32,8 +32,15 @@ class EpisodeStart:
     goal_scale: np.ndarray  # (n,) D0
 
 
-def sample_episode_start(rng: np.random.Generator, n: int, robot: RobotDescription, obj: ObjectModel, skill: str,
-                         cfg: ResetCfg, placement: Placement | None = None) -> EpisodeStart:
+def sample_episode_start(
+    rng: np.random.Generator,
+    n: int,
+    robot: RobotDescription,
+    obj: ObjectModel,
+    skill: str,
+    cfg: ResetCfg,
+    placement: Placement | None = None,
+) -> EpisodeStart:
     kin, params = obj.kinematics, obj.params
     # Recording and realistic rooms (the object stands on the placement's visible table) zero the random height,
     # except for windows, and the stage shift (docs/reference.md §8b).
@@ -57,7 +64,8 @@ def sample_episode_start(rng: np.random.Generator, n: int, robot: RobotDescripti
     stage_pos = stage_position(front, top)
 
     root_xy = np.asarray(robot.default_root_xy) + np.stack(
-        (rng.uniform(*cfg.root_x_range, n), rng.uniform(*cfg.root_y_range, n)), axis=1)
+        (rng.uniform(*cfg.root_x_range, n), rng.uniform(*cfg.root_y_range, n)), axis=1
+    )
     if skill == "close" and obj.kind is ObjectKind.ARTICULATED:
         # Back out of the door's sweep when opening moves the handle toward the robot (docs/reference.md §2c.5).
         sweep = kin.handle_opened[:2] - kin.handle_closed[:2]
@@ -67,19 +75,27 @@ def sample_episode_start(rng: np.random.Generator, n: int, robot: RobotDescripti
     yaw = np.arctan2(root_xy[:, 0], -root_xy[:, 1])
     yaw += np.radians(rng.uniform(-cfg.yaw_jitter_deg, cfg.yaw_jitter_deg, n))
     root_pos = np.concatenate((root_xy, np.full((n, 1), ROBOT_ROOT_Z)), axis=1)
-    return EpisodeStart(root_pos, quat_from_yaw(yaw), stage_pos, object_pos, object_quat, joint_value, goal_pos,
-                        goal_scale)
+    return EpisodeStart(
+        root_pos, quat_from_yaw(yaw), stage_pos, object_pos, object_quat, joint_value, goal_pos, goal_scale
+    )
 
 
 def _rotate_z(quat: np.ndarray, point: np.ndarray) -> np.ndarray:
     """Rotate an object-frame point by yaw-only quaternions."""
     yaw = 2.0 * np.arctan2(quat[:, 3], quat[:, 0])
     c, s = np.cos(yaw), np.sin(yaw)
-    return np.stack((c * point[0] - s * point[1], s * point[0] + c * point[1], np.full_like(c, point[2])), axis=1)
+    return np.stack(
+        (c * point[0] - s * point[1], s * point[0] + c * point[1], np.full_like(c, point[2])), axis=1
+    )
 
 
-def _goal(obj: ObjectModel, skill: str, object_pos: np.ndarray, grasp_start: np.ndarray, n: int,
-          ) -> tuple[np.ndarray, np.ndarray]:
+def _goal(
+    obj: ObjectModel,
+    skill: str,
+    object_pos: np.ndarray,
+    grasp_start: np.ndarray,
+    n: int,
+) -> tuple[np.ndarray, np.ndarray]:
     """Goal points (docs/reference.md §6e) and the default goal distance D0."""
     kin = obj.kinematics
     if skill == "open":

@@ -42,12 +42,17 @@ class TaskDistances(EnvRows):
 
     @classmethod
     def measure(cls, frames: Frames, goal_pos: np.ndarray) -> TaskDistances:
-        points = np.concatenate((frames.palm_pos[:, None], frames.finger_pos, frames.body_pos, goal_pos[:, None]),
-                                axis=1)
+        points = np.concatenate(
+            (frames.palm_pos[:, None], frames.finger_pos, frames.body_pos, goal_pos[:, None]), axis=1
+        )
         distance = vector_norm(points - frames.grasp_pos[:, None])  # one norm for all points
         num_fingers = frames.finger_pos.shape[1]
-        return cls(hand=distance[:, 0], finger=distance[:, 1:1 + num_fingers], body=distance[:, 1 + num_fingers:-1],
-                   goal=distance[:, -1])
+        return cls(
+            hand=distance[:, 0],
+            finger=distance[:, 1 : 1 + num_fingers],
+            body=distance[:, 1 + num_fingers : -1],
+            goal=distance[:, -1],
+        )
 
 
 def grasp_flag(d: TaskDistances, cfg: SuccessCfg) -> np.ndarray:
@@ -81,8 +86,14 @@ class RewardContext:
     palm_rot_target: np.ndarray | None  # (n, 4) q_rot90, or None where the palm-rotation term is off
 
 
-def reward_terms(frames: Frames, actions: np.ndarray, ctx: RewardContext, d: TaskDistances, grasped: np.ndarray,
-                 success_cfg: SuccessCfg) -> dict[str, np.ndarray]:
+def reward_terms(
+    frames: Frames,
+    actions: np.ndarray,
+    ctx: RewardContext,
+    d: TaskDistances,
+    grasped: np.ndarray,
+    success_cfg: SuccessCfg,
+) -> dict[str, np.ndarray]:
     """Unweighted reward terms (docs/reference.md §5b), each already gated by its activity condition."""
     reaching = (d.hand > success_cfg.reach_radius).astype(np.float64)
     holding = grasped.astype(np.float64)
@@ -93,8 +104,9 @@ def reward_terms(frames: Frames, actions: np.ndarray, ctx: RewardContext, d: Tas
     move_pos_target = np.clip(to_goal / ctx.goal_scale[:, None], -1.0, 1.0)
     away_from_motion = -to_goal / np.maximum(vector_norm(to_goal, keepdims=True), 1e-9)
     # Reach (onto the grasp direction) and move (away from the motion) rotation targets in one batched call.
-    rot_target, move_rot_target = rotation_to(frames.palm_quat,
-                                              np.stack((np.broadcast_to(GRASP_DIRECTION, (n, 3)), away_from_motion)))
+    rot_target, move_rot_target = rotation_to(
+        frames.palm_quat, np.stack((np.broadcast_to(GRASP_DIRECTION, (n, 3)), away_from_motion))
+    )
     if ctx.palm_rot_target is None:
         palm_rot = np.zeros(n)
     else:
@@ -122,11 +134,17 @@ def reward_terms(frames: Frames, actions: np.ndarray, ctx: RewardContext, d: Tas
     }
 
 
-def total_reward(terms: dict[str, np.ndarray], weights: RewardWeights, clip: float,
-                 ) -> tuple[np.ndarray, dict[str, np.ndarray]]:
+def total_reward(
+    terms: dict[str, np.ndarray],
+    weights: RewardWeights,
+    clip: float,
+) -> tuple[np.ndarray, dict[str, np.ndarray]]:
     """Σ w·r, NaN→0, clipped; also the weighted terms by name."""
     names = [f.name for f in fields(weights)]
-    weighted = np.stack([terms[name] for name in names]) * np.array([getattr(weights, name) for name in names])[:, None]
+    weighted = (
+        np.stack([terms[name] for name in names])
+        * np.array([getattr(weights, name) for name in names])[:, None]
+    )
     total = np.clip(weighted.sum(axis=0), -clip, clip)
     total[np.isnan(total)] = 0.0
     return total, dict(zip(names, weighted, strict=True))

@@ -54,15 +54,23 @@ class SceneIndex:
 
 
 def _add_stage_and_ground(spec: mujoco.MjSpec) -> None:
-    ground = spec.worldbody.add_geom(name="ground", type=mujoco.mjtGeom.mjGEOM_PLANE, size=[20, 20, 0.1],
-                                     rgba=[0.45, 0.45, 0.45, 1])
+    ground = spec.worldbody.add_geom(
+        name="ground", type=mujoco.mjtGeom.mjGEOM_PLANE, size=[20, 20, 0.1], rgba=[0.45, 0.45, 0.45, 1]
+    )
     ground.contype, ground.conaffinity = WORLD_CONTACT
     stage = spec.worldbody.add_body(name="stage", mocap=True, pos=[0, 1.0, -STAGE_HALF[2]])
-    geom = stage.add_geom(name="stage", type=mujoco.mjtGeom.mjGEOM_BOX, size=list(STAGE_HALF),
-                          rgba=[0.1, 0.1, 0.1, 1])
+    geom = stage.add_geom(
+        name="stage", type=mujoco.mjtGeom.mjGEOM_BOX, size=list(STAGE_HALF), rgba=[0.1, 0.1, 0.1, 1]
+    )
     geom.contype, geom.conaffinity = WORLD_CONTACT
-    spec.worldbody.add_light(name="sun", pos=[0, -1, 4], dir=[0, 0.3, -1], type=mujoco.mjtLightType.mjLIGHT_DIRECTIONAL,
-                             diffuse=[0.75, 0.75, 0.75], castshadow=False)
+    spec.worldbody.add_light(
+        name="sun",
+        pos=[0, -1, 4],
+        dir=[0, 0.3, -1],
+        type=mujoco.mjtLightType.mjLIGHT_DIRECTIONAL,
+        diffuse=[0.75, 0.75, 0.75],
+        castshadow=False,
+    )
 
 
 def build_scene_spec(robot: RobotDescription, obj: ObjectModel, physics: PhysicsCfg) -> mujoco.MjSpec:
@@ -98,7 +106,9 @@ def index_scene(model: mujoco.MjModel, robot: RobotDescription, obj: ObjectModel
     robot_joint_ids = [j for j in range(model.njnt) if not model.joint(j).name.startswith(OBJECT_PREFIX)]
     robot_qpos = np.array([model.jnt_qposadr[j] for j in robot_joint_ids], dtype=int)
     defaults = np.array([robot.default_qpos.get(model.joint(j).name, 0.0) for j in robot_joint_ids])
-    robot_act = np.array([a for a in range(model.nu) if model.actuator_trnid[a, 0] in robot_joint_ids], dtype=int)
+    robot_act = np.array(
+        [a for a in range(model.nu) if model.actuator_trnid[a, 0] in robot_joint_ids], dtype=int
+    )
     root = model.body(OBJECT_PREFIX + ROOT_BODY)
     free = obj.kind is not ObjectKind.ARTICULATED
     free_joint = model.joint(OBJECT_PREFIX + "free") if free else None
@@ -115,7 +125,9 @@ def index_scene(model: mujoco.MjModel, robot: RobotDescription, obj: ObjectModel
         hand_act=act_of(robot.hand_joints),
         hand_limits=np.array([j.range for j in hand]),
         mimic_act=act_of(robot.hand_mimic),
-        mimic_leader=np.array([robot.hand_joints.index(lead) for lead in robot.hand_mimic.values()], dtype=int),
+        mimic_leader=np.array(
+            [robot.hand_joints.index(lead) for lead in robot.hand_mimic.values()], dtype=int
+        ),
         robot_qpos=robot_qpos,
         robot_default_qpos=defaults,
         robot_act_qpos=model.jnt_qposadr[model.actuator_trnid[robot_act, 0]],
@@ -138,8 +150,13 @@ def index_scene(model: mujoco.MjModel, robot: RobotDescription, obj: ObjectModel
     )
 
 
-def build_scene(robot: RobotDescription, obj: ObjectModel, physics: PhysicsCfg, reset: ResetCfg,
-                placement: Placement | None = None) -> tuple[mujoco.MjModel, SceneIndex]:
+def build_scene(
+    robot: RobotDescription,
+    obj: ObjectModel,
+    physics: PhysicsCfg,
+    reset: ResetCfg,
+    placement: Placement | None = None,
+) -> tuple[mujoco.MjModel, SceneIndex]:
     """The plain stage scene, decorated with a realistic room when a placement is given; the room keeps clear
     of where `reset` puts the object."""
     spec = build_scene_spec(robot, obj, physics)

@@ -39,8 +39,9 @@ class RslRlVecEnv(VecEnv):
         self.env.episode_length_buf = value.cpu().numpy().astype(np.int64)
 
     def _observations(self, obs: np.ndarray) -> TensorDict:
-        return TensorDict({"policy": torch.from_numpy(obs).to(self.device)}, batch_size=[self.num_envs],
-                          device=self.device)
+        return TensorDict(
+            {"policy": torch.from_numpy(obs).to(self.device)}, batch_size=[self.num_envs], device=self.device
+        )
 
     def get_observations(self) -> TensorDict:
         return self._observations(self.env.obs)

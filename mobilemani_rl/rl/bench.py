@@ -33,15 +33,25 @@ def bench_preset(preset: str, robot: str, iterations: int) -> dict:
     seconds = time.perf_counter() - start
     samples = iterations * ppo.num_envs * ppo.num_steps_per_env
     env = runner.env.env
-    raw = interleaved_rates({"raw": raw_physics_replay(env, np.random.default_rng(0))}, env.num_envs,
-                            seconds=2.0)["raw"]
+    raw = interleaved_rates(
+        {"raw": raw_physics_replay(env, np.random.default_rng(0))}, env.num_envs, seconds=2.0
+    )["raw"]
     rate = samples / seconds
-    return {"preset": preset, "robot": robot, "num_envs": ppo.num_envs, "iterations": iterations,
-            "samples_per_s": round(rate), "raw_env_steps_per_s": round(raw), "ppo_over_raw": round(rate / raw, 3)}
+    return {
+        "preset": preset,
+        "robot": robot,
+        "num_envs": ppo.num_envs,
+        "iterations": iterations,
+        "samples_per_s": round(rate),
+        "raw_env_steps_per_s": round(raw),
+        "ppo_over_raw": round(rate / raw, 3),
+    }
 
 
 def main(argv: list[str] | None = None) -> list[dict]:
-    parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    parser = argparse.ArgumentParser(
+        description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter
+    )
     parser.add_argument("--presets", nargs="+", default=["cpu", "paper"])
     parser.add_argument("--robots", nargs="+", default=["g1", "xhand"])
     parser.add_argument("--iterations", type=int, default=3)
@@ -49,8 +59,10 @@ def main(argv: list[str] | None = None) -> list[dict]:
     results = [bench_preset(p, r, args.iterations) for p in args.presets for r in args.robots]
     print(f"{'preset':6} {'robot':6} {'envs':>5} {'samples/s':>10} {'raw steps/s':>12} {'ppo/raw':>8}")
     for r in results:
-        print(f"{r['preset']:6} {r['robot']:6} {r['num_envs']:5d} {r['samples_per_s']:10d} "
-              f"{r['raw_env_steps_per_s']:12d} {r['ppo_over_raw']:8.3f}")
+        print(
+            f"{r['preset']:6} {r['robot']:6} {r['num_envs']:5d} {r['samples_per_s']:10d} "
+            f"{r['raw_env_steps_per_s']:12d} {r['ppo_over_raw']:8.3f}"
+        )
     print(json.dumps({"benchmark": "ppo", "results": results}, indent=2))
     return results
 

@@ -9,8 +9,12 @@ from dataclasses import dataclass, field
 class WarmStartCfg:
     """Behaviour cloning of the scripted policy before PPO (mobilemani_rl.rl.warm_start); off in the reference."""
 
-    episodes: int = 0  # scripted episodes per object (rounded up to whole batches); 0: from scratch (reference)
-    action_noise: float = 0.3  # std of the noise on the executed scripted actions, not their labels (0.5 clones worse)
+    episodes: int = (
+        0  # scripted episodes per object (rounded up to whole batches); 0: from scratch (reference)
+    )
+    action_noise: float = (
+        0.3  # std of the noise on the executed scripted actions, not their labels (0.5 clones worse)
+    )
     epochs: int = 20
     mini_batch_size: int = 1024
     learning_rate: float = 1e-3
@@ -56,23 +60,41 @@ def rsl_rl_train_cfg(ppo: PpoCfg, logger: dict | str, run_name: str) -> dict:
     """The `train_cfg` dict OnPolicyRunner expects (rsl-rl-lib 5.x: separate actor and critic models)."""
 
     def model(hidden: list[int], distribution: bool) -> dict:
-        cfg = {"class_name": "MLPModel", "hidden_dims": list(hidden), "activation": ppo.activation,
-               "obs_normalization": ppo.obs_normalization}
+        cfg = {
+            "class_name": "MLPModel",
+            "hidden_dims": list(hidden),
+            "activation": ppo.activation,
+            "obs_normalization": ppo.obs_normalization,
+        }
         if distribution:
-            cfg["distribution_cfg"] = {"class_name": "GaussianDistribution", "init_std": ppo.init_noise_std,
-                                       "std_range": tuple(ppo.noise_std_range), "std_type": "scalar"}
+            cfg["distribution_cfg"] = {
+                "class_name": "GaussianDistribution",
+                "init_std": ppo.init_noise_std,
+                "std_range": tuple(ppo.noise_std_range),
+                "std_type": "scalar",
+            }
         return cfg
 
     return {
         "num_steps_per_env": ppo.num_steps_per_env,
         "save_interval": ppo.save_interval,
-        "obs_groups": {"actor": ["policy"], "critic": ["policy"]},  # no asymmetric critic (docs/reference.md §4)
+        "obs_groups": {
+            "actor": ["policy"],
+            "critic": ["policy"],
+        },  # no asymmetric critic (docs/reference.md §4)
         "algorithm": {
-            "class_name": "PPO", "learning_rate": ppo.learning_rate, "schedule": ppo.schedule,
-            "desired_kl": ppo.desired_kl, "num_learning_epochs": ppo.num_learning_epochs,
-            "num_mini_batches": ppo.num_mini_batches, "gamma": ppo.gamma, "lam": ppo.lam,
-            "clip_param": ppo.clip_param, "value_loss_coef": ppo.value_loss_coef,
-            "use_clipped_value_loss": ppo.use_clipped_value_loss, "entropy_coef": ppo.entropy_coef,
+            "class_name": "PPO",
+            "learning_rate": ppo.learning_rate,
+            "schedule": ppo.schedule,
+            "desired_kl": ppo.desired_kl,
+            "num_learning_epochs": ppo.num_learning_epochs,
+            "num_mini_batches": ppo.num_mini_batches,
+            "gamma": ppo.gamma,
+            "lam": ppo.lam,
+            "clip_param": ppo.clip_param,
+            "value_loss_coef": ppo.value_loss_coef,
+            "use_clipped_value_loss": ppo.use_clipped_value_loss,
+            "entropy_coef": ppo.entropy_coef,
             "max_grad_norm": ppo.max_grad_norm,
             "normalize_advantage_per_mini_batch": ppo.normalize_advantage_per_mini_batch,
         },

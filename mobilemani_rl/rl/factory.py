@@ -32,8 +32,12 @@ def make_env(env_cfg: EnvCfg, max_objects: int) -> MobileManiEnv | MultiObjectEn
     return MobileManiEnv(env_cfg) if objects is None else MultiObjectEnv(env_cfg, objects)
 
 
-def build_runner(cfg: DictConfig, run_dir: Path | None, num_envs: int | None = None,
-                 env: MobileManiEnv | MultiObjectEnv | None = None) -> MobileManiRunner:
+def build_runner(
+    cfg: DictConfig,
+    run_dir: Path | None,
+    num_envs: int | None = None,
+    env: MobileManiEnv | MultiObjectEnv | None = None,
+) -> MobileManiRunner:
     """Env + rsl-rl runner for a composed config (run_dir None: no logging, e.g. for evaluation)."""
     ppo = ppo_cfg_from_hydra(cfg)
     if ppo.torch_threads:
@@ -45,8 +49,11 @@ def build_runner(cfg: DictConfig, run_dir: Path | None, num_envs: int | None = N
         env = make_env(env_cfg, cfg.objects_per_policy)
     env_cfg = env.cfg
     env = RslRlVecEnv(env)
-    logger = cfg.logger if cfg.logger == "tensorboard" else {"class_name": "WandbLogWriter",
-                                                              "project_name": cfg.wandb_project}
+    logger = (
+        cfg.logger
+        if cfg.logger == "tensorboard"
+        else {"class_name": "WandbLogWriter", "project_name": cfg.wandb_project}
+    )
     run_name = f"{env_cfg.task.robot}/{env_cfg.task.object}/{env_cfg.task.skill}"
     train_cfg = rsl_rl_train_cfg(ppo, logger, run_name)
     return MobileManiRunner(env, train_cfg, None if run_dir is None else str(run_dir), ppo.max_iterations)

@@ -16,7 +16,9 @@ CONFIG = "config.yaml"
 RESULT = "result.json"
 CURVE = "curve.json"
 WARM_START = "warm_start.json"  # behaviour-cloning statistics, when the run started from the scripted policy
-WARM_START_CHECKPOINT = "warm_start.pt"  # the runner right after the warm start (minutes of work a rerun keeps)
+WARM_START_CHECKPOINT = (
+    "warm_start.pt"  # the runner right after the warm start (minutes of work a rerun keeps)
+)
 _CHECKPOINT = re.compile(r"model_(\d+)\.pt$")
 
 
@@ -45,12 +47,18 @@ def save_or_check_config(run_dir: Path, cfg: DictConfig, keys: tuple[str, ...]) 
     simply replaced."""
     path = run_dir / CONFIG
     current = OmegaConf.create(OmegaConf.to_container(cfg, resolve=True))
-    if not path.exists() or (latest_checkpoint(run_dir) is None and not (run_dir / WARM_START_CHECKPOINT).exists()):
+    if not path.exists() or (
+        latest_checkpoint(run_dir) is None and not (run_dir / WARM_START_CHECKPOINT).exists()
+    ):
         run_dir.mkdir(parents=True, exist_ok=True)
         OmegaConf.save(current, path)
         return
     saved = OmegaConf.load(path)
-    differing = [k for k in keys if OmegaConf.to_container(saved.get(k)) != OmegaConf.to_container(current.get(k))]
+    differing = [
+        k for k in keys if OmegaConf.to_container(saved.get(k)) != OmegaConf.to_container(current.get(k))
+    ]
     if differing:
-        raise ConfigMismatchError(f"{run_dir} was started with a different {', '.join(differing)} config; "
-                                  f"resume with the saved {path} or choose another run_dir")
+        raise ConfigMismatchError(
+            f"{run_dir} was started with a different {', '.join(differing)} config; "
+            f"resume with the saved {path} or choose another run_dir"
+        )

@@ -34,16 +34,28 @@ class ProgressLogger(Logger):
 
     def log(self, it: int, *args, **kwargs) -> None:
         if self.bar is None:
-            self.bar = tqdm(total=self.total_iterations, initial=it, desc="PPO", unit="it", dynamic_ncols=True)
+            self.bar = tqdm(
+                total=self.total_iterations, initial=it, desc="PPO", unit="it", dynamic_ncols=True
+            )
         success = _episode_mean(self.ep_extras, SUCCESS_KEY)
         with contextlib.redirect_stdout(io.StringIO()):  # rsl-rl prints a 30-line block per iteration
             super().log(it, *args, **kwargs)
         reward = float(np.mean(self.rewbuffer)) if self.rewbuffer else float("nan")
-        self.curve.append({"iteration": it, "samples": self.tot_timesteps, "seconds": self.tot_time,
-                           "success": success, "reward": reward})
+        self.curve.append(
+            {
+                "iteration": it,
+                "samples": self.tot_timesteps,
+                "seconds": self.tot_time,
+                "success": success,
+                "reward": reward,
+            }
+        )
         self.bar.n = it + 1
-        self.bar.set_postfix(success=f"{success:.2f}", reward=f"{reward:.1f}",
-                             sps=f"{self.tot_timesteps / max(self.tot_time, 1e-9):.0f}")
+        self.bar.set_postfix(
+            success=f"{success:.2f}",
+            reward=f"{reward:.1f}",
+            sps=f"{self.tot_timesteps / max(self.tot_time, 1e-9):.0f}",
+        )
         self.bar.refresh()
 
 
@@ -56,13 +68,22 @@ class MobileManiRunner(OnPolicyRunner):
     def __init__(self, env, train_cfg: dict, log_dir: str | None, total_iterations: int) -> None:
         with contextlib.redirect_stdout(io.StringIO()):  # model summaries
             super().__init__(env, train_cfg, log_dir=log_dir, device="cpu")
-        self.logger = ProgressLogger(log_dir=log_dir, cfg=self.cfg, env_cfg=env.cfg, num_envs=env.num_envs,
-                                     is_distributed=False, gpu_world_size=1, gpu_global_rank=0, device="cpu",
-                                     total_iterations=total_iterations)
+        self.logger = ProgressLogger(
+            log_dir=log_dir,
+            cfg=self.cfg,
+            env_cfg=env.cfg,
+            num_envs=env.num_envs,
+            is_distributed=False,
+            gpu_world_size=1,
+            gpu_global_rank=0,
+            device="cpu",
+            total_iterations=total_iterations,
+        )
         self.curve_path = Path(log_dir) / CURVE if log_dir else None
 
-    def load(self, path: str, load_cfg: dict | None = None, strict: bool = True,
-             map_location: str | None = None) -> dict:
+    def load(
+        self, path: str, load_cfg: dict | None = None, strict: bool = True, map_location: str | None = None
+    ) -> dict:
         """rsl-rl's load with `weights_only=True` (rsl-rl itself unpickles anything, so a crafted checkpoint
         would run code); a file that is not a readable checkpoint stops with its path."""
         try:

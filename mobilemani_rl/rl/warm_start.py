@@ -75,37 +75,56 @@ def record_batch(env: MobileManiEnv, noise: float, seed: int, gamma: float, bar:
     stats = run_first_episodes(env, policy, seed, on_step=policy.on_step)
     in_episode = np.arange(len(policy.obs))[:, None] < stats.length[None, :]  # (steps, envs)
     returns = discounted_returns(np.where(in_episode, np.stack(policy.rewards), 0.0), gamma)
-    return Demonstrations(np.stack(policy.obs)[in_episode], np.stack(policy.labels)[in_episode],
-                          returns[in_episode], episodes=env.num_envs, successes=int(stats.success.sum()))
+    return Demonstrations(
+        np.stack(policy.obs)[in_episode],
+        np.stack(policy.labels)[in_episode],
+        returns[in_episode],
+        episodes=env.num_envs,
+        successes=int(stats.success.sum()),
+    )
 
 
-def collect(env: MobileManiEnv | MultiObjectEnv, episodes: int, noise: float, seed: int,
-            gamma: float) -> Demonstrations:
+def collect(
+    env: MobileManiEnv | MultiObjectEnv, episodes: int, noise: float, seed: int, gamma: float
+) -> Demonstrations:
     """At least `episodes` labelled episodes of every object (a multi-object env holds one env per object)."""
-    batches = [(part, seed + i) for part in (env.envs if isinstance(env, MultiObjectEnv) else [env])
-               for i in range(math.ceil(episodes / part.num_envs))]
+    batches = [
+        (part, seed + i)
+        for part in (env.envs if isinstance(env, MultiObjectEnv) else [env])
+        for i in range(math.ceil(episodes / part.num_envs))
+    ]
     length = env.max_episode_length
     # Minutes on a CPU: a bar over the batches' control steps gives the total and an ETA.
-    with tqdm(total=len(batches) * length, unit="step", dynamic_ncols=True,
-              desc=f"warm start: {sum(part.num_envs for part, _ in batches)} scripted episodes") as bar:
+    with tqdm(
+        total=len(batches) * length,
+        unit="step",
+        dynamic_ncols=True,
+        desc=f"warm start: {sum(part.num_envs for part, _ in batches)} scripted episodes",
+    ) as bar:
         parts = []
         for k, (part, batch_seed) in enumerate(batches):
             parts.append(record_batch(part, noise, batch_seed, gamma, bar))
             bar.n = (k + 1) * length  # a batch whose episodes all ended early skips its remaining steps
             bar.refresh()
-    return Demonstrations(*(np.concatenate([getattr(p, f) for p in parts]) for f in ("obs", "actions", "returns")),
-                          episodes=sum(p.episodes for p in parts), successes=sum(p.successes for p in parts))
+    return Demonstrations(
+        *(np.concatenate([getattr(p, f) for p in parts]) for f in ("obs", "actions", "returns")),
+        episodes=sum(p.episodes for p in parts),
+        successes=sum(p.successes for p in parts),
+    )
 
 
-def fit(model: torch.nn.Module, inputs: np.ndarray, targets: np.ndarray, cfg: WarmStartCfg,
-        name: str) -> list[float]:
+def fit(
+    model: torch.nn.Module, inputs: np.ndarray, targets: np.ndarray, cfg: WarmStartCfg, name: str
+) -> list[float]:
     """Mean-squared-error regression of the model's (deterministic) output; returns the loss of each epoch."""
     x = torch.from_numpy(inputs).float()
     y = torch.from_numpy(targets).float().reshape(len(targets), -1)
     optimizer = torch.optim.Adam(model.parameters(), lr=cfg.learning_rate)
     generator = torch.Generator().manual_seed(cfg.seed)
     losses = []
-    with tqdm(total=cfg.epochs, desc=f"warm start: fitting the {name}", unit="epoch", dynamic_ncols=True) as bar:
+    with tqdm(
+        total=cfg.epochs, desc=f"warm start: fitting the {name}", unit="epoch", dynamic_ncols=True
+    ) as bar:
         for _ in range(cfg.epochs):
             total = 0.0
             for batch in torch.randperm(len(x), generator=generator).split(cfg.mini_batch_size):
@@ -121,8 +140,13 @@ def fit(model: torch.nn.Module, inputs: np.ndarray, targets: np.ndarray, cfg: Wa
     return losses
 
 
-def warm_start(actor: torch.nn.Module, critic: torch.nn.Module, env: MobileManiEnv | MultiObjectEnv,
-               cfg: WarmStartCfg, gamma: float) -> dict:
+def warm_start(
+    actor: torch.nn.Module,
+    critic: torch.nn.Module,
+    env: MobileManiEnv | MultiObjectEnv,
+    cfg: WarmStartCfg,
+    gamma: float,
+) -> dict:
     """Clone the scripted policy into the actor, fit the critic to its returns and set the action noise.
 
     The env is left reset, so that training starts from fresh episodes.
@@ -137,6 +161,10 @@ def warm_start(actor: torch.nn.Module, critic: torch.nn.Module, env: MobileManiE
     with torch.no_grad():
         actor.distribution.std_param.fill_(cfg.noise_std)
     env.reset(seed=cfg.seed)
-    return {"episodes": demos.episodes, "scripted_success": demos.successes / demos.episodes,
-            "steps": len(demos.obs), "actor_loss": [actor_losses[0], actor_losses[-1]],
-            "critic_loss": [critic_losses[0], critic_losses[-1]]}
+    return {
+        "episodes": demos.episodes,
+        "scripted_success": demos.successes / demos.episodes,
+        "steps": len(demos.obs),
+        "actor_loss": [actor_losses[0], actor_losses[-1]],
+        "critic_loss": [critic_losses[0], critic_losses[-1]],
+    }

@@ -28,7 +28,9 @@ class EvalPolicy:
     name: str = "policy"
     inputs: frozenset[str] = frozenset()
     action_frame: ActionFrame = "world"
-    image_size: tuple[int, int] | None = None  # (height, width) the policy's images were recorded at, if known
+    image_size: tuple[int, int] | None = (
+        None  # (height, width) the policy's images were recorded at, if known
+    )
     action_dim: int | None = None  # width of the actions it predicts, if fixed (a trained checkpoint's)
 
     def start(self, env: MobileManiEnv, seed: int) -> None:

@@ -15,11 +15,14 @@ def build_policy(cfg: PolicyCfg) -> EvalPolicy:
         raise ValueError(f"policy.kind={cfg.kind} needs policy.checkpoint=<checkpoint directory>")
     if cfg.kind == "vla":
         from mobilemani_vla.policies.vla import VLAEvalPolicy
+
         return VLAEvalPolicy(cfg.checkpoint, cfg.device, cfg.batch_size)
     if cfg.kind == "lerobot":
         from mobilemani_vla.policies.lerobot import LeRobotEvalPolicy
+
         return LeRobotEvalPolicy(cfg.checkpoint, cfg.device, cfg.batch_size, cfg.rename)
     from mobilemani_vla.policies.privileged import RandomPolicy, ScriptedEvalPolicy, TeacherEvalPolicy
+
     if cfg.kind == "teacher":
         return TeacherEvalPolicy(cfg.checkpoint, cfg.runs_dir)
     return ScriptedEvalPolicy() if cfg.kind == "scripted" else RandomPolicy()

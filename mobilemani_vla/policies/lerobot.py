@@ -25,29 +25,42 @@ class LeRobotEvalPolicy(EvalPolicy):
     name = "lerobot"
     action_frame = "base"  # the dataset's `action`
 
-    def __init__(self, checkpoint: str | Path, device: str = "cpu", batch_size: int = 16,
-                 rename: dict[str, str] | None = None) -> None:
+    def __init__(
+        self,
+        checkpoint: str | Path,
+        device: str = "cpu",
+        batch_size: int = 16,
+        rename: dict[str, str] | None = None,
+    ) -> None:
         from lerobot.configs.policies import PreTrainedConfig
         from lerobot.policies.factory import get_policy_class, make_pre_post_processors
 
         path = Path(checkpoint)
         if not (path / "config.json").is_file():
-            raise FileNotFoundError(f"no LeRobot policy (config.json) in {path}; pass its pretrained_model dir")
+            raise FileNotFoundError(
+                f"no LeRobot policy (config.json) in {path}; pass its pretrained_model dir"
+            )
         config = PreTrainedConfig.from_pretrained(path)
         config.device = device
         if getattr(config, "n_obs_steps", 1) != 1:
-            raise ValueError(f"{config.type} stacks {config.n_obs_steps} observation steps; only single-step "
-                             "policies are supported")
+            raise ValueError(
+                f"{config.type} stacks {config.n_obs_steps} observation steps; only single-step "
+                "policies are supported"
+            )
         self.policy = get_policy_class(config.type).from_pretrained(path, config=config).eval()
         self.pre, self.post = make_pre_post_processors(config, pretrained_path=str(path))
         self.name = f"lerobot_{config.type}"
         self.device, self.batch_size = torch.device(device), batch_size
         theirs_to_ours = {theirs: ours for ours, theirs in (rename or {}).items()}
-        self.features = {theirs_to_ours.get(k, k): (k, tuple(f.shape)) for k, f in config.input_features.items()}
+        self.features = {
+            theirs_to_ours.get(k, k): (k, tuple(f.shape)) for k, f in config.input_features.items()
+        }
         outputs = list(config.output_features)
         if outputs != [schema.ACTION]:
-            raise ValueError(f"the policy predicts {outputs}; expected [{schema.ACTION!r}] (the dataset's base-frame "
-                             "action)")
+            raise ValueError(
+                f"the policy predicts {outputs}; expected [{schema.ACTION!r}] (the dataset's base-frame "
+                "action)"
+            )
         self.action_dim = int(config.output_features[schema.ACTION].shape[0])
         self.inputs = frozenset(self.features) | {TASK}
         self.windowed = config.observation_delta_indices is not None
@@ -62,8 +75,9 @@ class LeRobotEvalPolicy(EvalPolicy):
             if value.ndim == 4:  # (B, H, W, 3) uint8 -> (B, 3, H, W) in [0, 1] at the feature's size
                 value = value.permute(0, 3, 1, 2).float() / 255.0
                 if tuple(value.shape[-2:]) != shape[-2:]:
-                    value = F.interpolate(value, size=shape[-2:], mode="bilinear", antialias=True,
-                                          align_corners=False)
+                    value = F.interpolate(
+                        value, size=shape[-2:], mode="bilinear", antialias=True, align_corners=False
+                    )
             # Policies trained on observation windows (Diffusion Policy: observation_delta_indices) get a time axis
             # of length 1, as LeRobot's loader gave them in training; the others (ACT) take single frames.
             batch[theirs] = value.float().unsqueeze(1) if self.windowed else value.float()

@@ -23,8 +23,9 @@ class VLAEvalPolicy(EvalPolicy):
         self.image_size = recorded_image_size(checkpoint)  # render as the training data was rendered
         self.batch_size = batch_size
         self.action_dim = self.policy.cfg.action_dim
-        self.inputs = frozenset({camera_key(c) for c in self.policy.cameras} | set(self.policy.vector_inputs)
-                                | {TASK})
+        self.inputs = frozenset(
+            {camera_key(c) for c in self.policy.cameras} | set(self.policy.vector_inputs) | {TASK}
+        )
 
     def start(self, env: MobileManiEnv, seed: int) -> None:
         # Diffusion noise, reproducible per batch; on the model's device so CUDA sampling needs no host copies.
@@ -37,6 +38,9 @@ class VLAEvalPolicy(EvalPolicy):
             if part.size:
                 images = {c: obs[camera_key(c)][part] for c in self.policy.cameras}
                 vectors = {k: obs[k][part] for k in self.policy.vector_inputs}
-                chunks.append(self.policy.predict_action_chunks(images, [obs[TASK][i] for i in part],
-                                                                vectors, self.generator))
+                chunks.append(
+                    self.policy.predict_action_chunks(
+                        images, [obs[TASK][i] for i in part], vectors, self.generator
+                    )
+                )
         return scatter_rows(rows, np.concatenate(chunks), len(obs[TASK]))

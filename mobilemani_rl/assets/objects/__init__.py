@@ -17,10 +17,26 @@ def check_skill(obj: ObjectModel, skill: str) -> str:
     """The skill, if the object supports it; otherwise one error naming the valid ones."""
     check_choice(skill, ALL_SKILLS, "skill")
     if skill not in obj.skills:
-        raise UnknownNameError(f"skill {skill!r} does not apply to {obj.object_id} ({obj.kind}); "
-                               f"valid skills for it: {', '.join(obj.skills)}")
+        raise UnknownNameError(
+            f"skill {skill!r} does not apply to {obj.object_id} ({obj.kind}); "
+            f"valid skills for it: {', '.join(obj.skills)}"
+        )
     return skill
 
 
-__all__ = ["CATALOG", "CATEGORIES", "CATEGORY_PARAMS", "OBJECTS", "SPLITS", "ObjectKind", "ObjectKinematics",
-           "ObjectModel", "Place", "Task", "catalog_ids", "check_skill", "get_object", "task_table"]
+__all__ = [
+    "CATALOG",
+    "CATEGORIES",
+    "CATEGORY_PARAMS",
+    "OBJECTS",
+    "SPLITS",
+    "ObjectKind",
+    "ObjectKinematics",
+    "ObjectModel",
+    "Place",
+    "Task",
+    "catalog_ids",
+    "check_skill",
+    "get_object",
+    "task_table",
+]

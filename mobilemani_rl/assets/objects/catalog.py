@@ -19,10 +19,26 @@ from mobilemani_rl.assets.objects.model import ObjectModel
 from mobilemani_rl.registry import check_choice
 
 SPLIT_COUNTS: dict[str, tuple[int, int]] = {  # category: (train, test)
-    "box": (10, 4), "toilet": (25, 5), "laptop": (30, 6), "trashcan": (30, 7), "dishwasher": (20, 5),
-    "oven": (10, 2), "microwave": (3, 2), "refrigerator": (40, 12), "washing_machine": (10, 2), "car": (10, 2),
-    "safe": (15, 4), "fridge": (8, 2), "cabinet": (20, 2), "window": (15, 3), "lever_door": (18, 4),
-    "round_door": (20, 5), "faucet": (60, 18), "table": (90, 18), "cart": (12, 4), "holistic": (60, 18),
+    "box": (10, 4),
+    "toilet": (25, 5),
+    "laptop": (30, 6),
+    "trashcan": (30, 7),
+    "dishwasher": (20, 5),
+    "oven": (10, 2),
+    "microwave": (3, 2),
+    "refrigerator": (40, 12),
+    "washing_machine": (10, 2),
+    "car": (10, 2),
+    "safe": (15, 4),
+    "fridge": (8, 2),
+    "cabinet": (20, 2),
+    "window": (15, 3),
+    "lever_door": (18, 4),
+    "round_door": (20, 5),
+    "faucet": (60, 18),
+    "table": (90, 18),
+    "cart": (12, 4),
+    "holistic": (60, 18),
 }
 CATEGORIES = tuple(SPLIT_COUNTS)
 SPLITS = ("train", "test")
@@ -50,13 +66,17 @@ def make_object(category: str, index: int) -> ObjectModel:
     oid = object_id(category, index)
     design = GENERATORS[category](object_rng(oid))
     kind = KIND_BY_CATEGORY.get(category, ObjectKind.ARTICULATED)
-    return ObjectModel(oid, category, kind, design.build, design.grasp_body, design.joint,
-                       split=split_of(category, index))
+    return ObjectModel(
+        oid, category, kind, design.build, design.grasp_body, design.joint, split=split_of(category, index)
+    )
 
 
 def build_catalog() -> dict[str, ObjectModel]:
-    return {obj.object_id: obj for category, (train, test) in SPLIT_COUNTS.items()
-            for obj in (make_object(category, i) for i in range(train + test))}
+    return {
+        obj.object_id: obj
+        for category, (train, test) in SPLIT_COUNTS.items()
+        for obj in (make_object(category, i) for i in range(train + test))
+    }
 
 
 CATALOG: dict[str, ObjectModel] = build_catalog()
@@ -68,8 +88,9 @@ def catalog_ids(category: str | None = None, split: str | None = None) -> list[s
         check_choice(category, CATEGORIES, "category")
     if split is not None:
         check_choice(split, SPLITS, "split")
-    return [oid for oid, obj in CATALOG.items()
-            if category in (None, obj.category) and split in (None, obj.split)]
+    return [
+        oid for oid, obj in CATALOG.items() if category in (None, obj.category) and split in (None, obj.split)
+    ]
 
 
 @dataclass(frozen=True)
@@ -79,12 +100,17 @@ class Task:
     skill: str
 
 
-def task_table(robots: tuple[str, ...] = ("g1", "xhand"), category: str | None = None,
-               split: str | None = None) -> list[Task]:
+def task_table(
+    robots: tuple[str, ...] = ("g1", "xhand"), category: str | None = None, split: str | None = None
+) -> list[Task]:
     """Every valid (robot, object, skill): open/close articulated, pull/push carts, pick holistic objects."""
     from mobilemani_rl.assets.robots import ROBOTS
 
     for robot in robots:
         check_choice(robot, ROBOTS, "robot")
-    return [Task(robot, oid, skill) for robot in robots for oid in catalog_ids(category, split)
-            for skill in SKILLS_BY_KIND[CATALOG[oid].kind]]
+    return [
+        Task(robot, oid, skill)
+        for robot in robots
+        for oid in catalog_ids(category, split)
+        for skill in SKILLS_BY_KIND[CATALOG[oid].kind]
+    ]

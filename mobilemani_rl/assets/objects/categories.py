@@ -42,7 +42,9 @@ class CategoryParams:
     random_height: bool  # stage height randomised U(0, 0.5) m (docs/reference.md §6g)
 
 
-def _row(scale: float, mass: float, place: Place, gravity: bool, init_deg: float, height: float) -> CategoryParams:
+def _row(
+    scale: float, mass: float, place: Place, gravity: bool, init_deg: float, height: float
+) -> CategoryParams:
     random_height = place is Place.TABLETOP
     return CategoryParams(scale, mass, place, gravity, math.radians(init_deg), height, random_height)
 

@@ -37,9 +37,15 @@ def stage_model(obj: ObjectModel) -> mujoco.MjModel:
     spec.option.integrator = mujoco.mjtIntegrator.mjINT_IMPLICITFAST
     spec.option.iterations = 20
     ground = -obj.params.init_height
-    spec.worldbody.add_geom(name="ground", type=mujoco.mjtGeom.mjGEOM_PLANE, size=[5, 5, 0.1], pos=[0, 0, ground])
-    spec.worldbody.add_geom(name="stage", type=mujoco.mjtGeom.mjGEOM_BOX, size=list(STAGE_HALF),
-                            pos=stage_position(kin.front_y - STAGE_SHIFT, 0.0))
+    spec.worldbody.add_geom(
+        name="ground", type=mujoco.mjtGeom.mjGEOM_PLANE, size=[5, 5, 0.1], pos=[0, 0, ground]
+    )
+    spec.worldbody.add_geom(
+        name="stage",
+        type=mujoco.mjtGeom.mjGEOM_BOX,
+        size=list(STAGE_HALF),
+        pos=stage_position(kin.front_y - STAGE_SHIFT, 0.0),
+    )
     frame = spec.worldbody.add_frame(pos=[0, 0, -kin.bottom_z])
     spec.attach(obj.build_spec(), prefix=OBJECT_PREFIX, frame=frame)
     if obj.kind is not ObjectKind.ARTICULATED:
@@ -49,11 +55,13 @@ def stage_model(obj: ObjectModel) -> mujoco.MjModel:
     return model
 
 
-def _penetrations(model: mujoco.MjModel, data: mujoco.MjData, moving: set[int]) -> list[tuple[str, str, float]]:
+def _penetrations(
+    model: mujoco.MjModel, data: mujoco.MjData, moving: set[int]
+) -> list[tuple[str, str, float]]:
     mujoco.mj_kinematics(model, data)
     mujoco.mj_collision(model, data)
     found = []
-    for c in data.contact[:data.ncon]:
+    for c in data.contact[: data.ncon]:
         bodies = [int(model.geom_bodyid[g]) for g in c.geom]
         if c.dist < -PENETRATION and moving.intersection(bodies) and bodies[0] != bodies[1]:
             found.append((model.body(bodies[0]).name, model.body(bodies[1]).name, float(-c.dist)))
@@ -86,7 +94,7 @@ def sweep(obj: ObjectModel, skill: str, steps: int = 30) -> SweepResult:
         goal = kin.handle_closed + np.asarray(delta)
         # The bottom rests on the stage (touching) along the whole path for carts, and leaves it when picked.
         for t in np.linspace(0.0, 1.0, steps):
-            data.qpos[qadr:qadr + 3] = offset + t * np.asarray(delta)
+            data.qpos[qadr : qadr + 3] = offset + t * np.asarray(delta)
             collisions += _penetrations(model, data, moving)
     mujoco.mj_kinematics(model, data)
     error = float(np.linalg.norm(data.site_xpos[site] - (goal + offset)))

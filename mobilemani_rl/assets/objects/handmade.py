@@ -42,15 +42,28 @@ def build_test_box() -> mujoco.MjSpec:
     for sy in (-1, 1):
         add_part(root, BOX, (hx, WALL / 2, hz), WOOD, pos=(0, sy * (hy - WALL / 2), hz))
     # Hinge along the back top edge; the lid extends toward -y (the robot) and opens upward.
-    lid = add_moving_link(root, "lid", (0, hy, 2 * hz + LID_THICKNESS / 2), joint="lid_hinge",
-                          joint_type=mujoco.mjtJoint.mjJNT_HINGE, axis=(-1, 0, 0), limits=(0.0, math.radians(110)))
+    lid = add_moving_link(
+        root,
+        "lid",
+        (0, hy, 2 * hz + LID_THICKNESS / 2),
+        joint="lid_hinge",
+        joint_type=mujoco.mjtJoint.mjJNT_HINGE,
+        axis=(-1, 0, 0),
+        limits=(0.0, math.radians(110)),
+    )
     lid_mass = params.mass
     add_part(lid, BOX, (hx, hy, LID_THICKNESS / 2), LID, pos=(0, -hy, 0), mass=0.85 * lid_mass)
     bar_y = -2 * hy - HANDLE_OFFSET
     add_part(lid, CAPSULE, (0.008,), METAL, fromto=(-0.05, bar_y, 0, 0.05, bar_y, 0), mass=0.05 * lid_mass)
     for sx in (-1, 1):
-        add_part(lid, BOX, (0.006, HANDLE_OFFSET / 2, 0.005), METAL, pos=(sx * 0.05, -2 * hy - HANDLE_OFFSET / 2, 0),
-                 mass=0.05 * lid_mass)
+        add_part(
+            lid,
+            BOX,
+            (0.006, HANDLE_OFFSET / 2, 0.005),
+            METAL,
+            pos=(sx * 0.05, -2 * hy - HANDLE_OFFSET / 2, 0),
+            mass=0.05 * lid_mass,
+        )
     add_grasp_site(lid, (0, bar_y, 0))
     apply_gravity_setting(spec, params)
     return spec
@@ -69,7 +82,8 @@ def build_test_can() -> mujoco.MjSpec:
 
 
 TEST_OBJECTS: dict[str, ObjectModel] = {
-    "test/box": ObjectModel("test/box", "box", ObjectKind.ARTICULATED, build_test_box, grasp_body="lid",
-                            joint="lid_hinge"),
+    "test/box": ObjectModel(
+        "test/box", "box", ObjectKind.ARTICULATED, build_test_box, grasp_body="lid", joint="lid_hinge"
+    ),
     "test/can": ObjectModel("test/can", "holistic", ObjectKind.RIGID, build_test_can, grasp_body="object"),
 }

@@ -83,7 +83,9 @@ class ObjectKinematics:
             lower, upper = (float(v) for v in joint.range)
             is_hinge = joint.type[0] == mujoco.mjtJoint.mjJNT_HINGE
             init = min(lower + obj.params.init_joint, upper)
-            opened = min(lower + float(OPEN_ANGLE), upper) if is_hinge else lower + OPEN_RATIO * (upper - lower)
+            opened = (
+                min(lower + float(OPEN_ANGLE), upper) if is_hinge else lower + OPEN_RATIO * (upper - lower)
+            )
         closed_pos = _grasp_point(model, data, obj.joint, init)
         low, front = _extent(model, data)
         opened_pos = _grasp_point(model, data, obj.joint, opened)
@@ -113,7 +115,9 @@ def _extent(model: mujoco.MjModel, data: mujoco.MjData) -> tuple[float, float]:
             continue
         center, half = model.geom_aabb[g, :3], model.geom_aabb[g, 3:]
         rot = data.geom_xmat[g].reshape(3, 3)
-        corners = np.array([[sx, sy, sz] for sx in (-1, 1) for sy in (-1, 1) for sz in (-1, 1)]) * half + center
+        corners = (
+            np.array([[sx, sy, sz] for sx in (-1, 1) for sy in (-1, 1) for sz in (-1, 1)]) * half + center
+        )
         world = corners @ rot.T + data.geom_xpos[g]
         low, front = min(low, world[:, 2].min()), min(front, world[:, 1].min())
     return float(low), float(front)

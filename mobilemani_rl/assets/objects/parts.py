@@ -25,9 +25,17 @@ def new_object_spec(name: str) -> tuple[mujoco.MjSpec, mujoco.MjsBody]:
     return spec, spec.worldbody.add_body(name=ROOT_BODY)
 
 
-def add_part(body: mujoco.MjsBody, kind: mujoco.mjtGeom, size: Sequence[float], rgba: Sequence[float], *,
-             pos: Sequence[float] = (0, 0, 0), fromto: Sequence[float] | None = None,
-             mass: float | None = None, density: float = 300.0) -> mujoco.MjsGeom:
+def add_part(
+    body: mujoco.MjsBody,
+    kind: mujoco.mjtGeom,
+    size: Sequence[float],
+    rgba: Sequence[float],
+    *,
+    pos: Sequence[float] = (0, 0, 0),
+    fromto: Sequence[float] | None = None,
+    mass: float | None = None,
+    density: float = 300.0,
+) -> mujoco.MjsGeom:
     """A geom that touches the robot and the world; give `mass` on operated links (category mass)."""
     geom = body.add_geom(type=kind, size=list(size) + [0] * (3 - len(size)), rgba=list(rgba), density=density)
     if mass is not None:
@@ -40,13 +48,26 @@ def add_part(body: mujoco.MjsBody, kind: mujoco.mjtGeom, size: Sequence[float], 
     return geom
 
 
-def add_moving_link(parent: mujoco.MjsBody, name: str, pos: Sequence[float], *, joint: str,
-                    joint_type: mujoco.mjtJoint, axis: Sequence[float], limits: tuple[float, float],
-                    ) -> mujoco.MjsBody:
+def add_moving_link(
+    parent: mujoco.MjsBody,
+    name: str,
+    pos: Sequence[float],
+    *,
+    joint: str,
+    joint_type: mujoco.mjtJoint,
+    axis: Sequence[float],
+    limits: tuple[float, float],
+) -> mujoco.MjsBody:
     """The operated link with its passive joint."""
     link = parent.add_body(name=name, pos=list(pos))
-    link.add_joint(name=joint, type=joint_type, axis=list(axis), range=list(limits),
-                   limited=mujoco.mjtLimited.mjLIMITED_TRUE, damping=JOINT_DAMPING)
+    link.add_joint(
+        name=joint,
+        type=joint_type,
+        axis=list(axis),
+        range=list(limits),
+        limited=mujoco.mjtLimited.mjLIMITED_TRUE,
+        damping=JOINT_DAMPING,
+    )
     return link
 
 

@@ -49,28 +49,61 @@ def add_geom(
     return geom
 
 
-def add_link(parent: mujoco.MjsBody, name: str, pos: Sequence[float], quat: Sequence[float] = (1, 0, 0, 0),
-             ) -> mujoco.MjsBody:
+def add_link(
+    parent: mujoco.MjsBody,
+    name: str,
+    pos: Sequence[float],
+    quat: Sequence[float] = (1, 0, 0, 0),
+) -> mujoco.MjsBody:
     """A robot body; gravity compensation stands in for the reference's disabled robot gravity."""
     body = parent.add_body(name=name, pos=list(pos), quat=list(quat))
     body.gravcomp = 1.0
     return body
 
 
-def add_hinge(body: mujoco.MjsBody, name: str, axis: Sequence[float], limits: tuple[float, float], *,
-              armature: float, damping: float) -> mujoco.MjsJoint:
-    return body.add_joint(name=name, type=mujoco.mjtJoint.mjJNT_HINGE, axis=list(axis), range=list(limits),
-                          limited=mujoco.mjtLimited.mjLIMITED_TRUE, armature=armature, damping=damping)
+def add_hinge(
+    body: mujoco.MjsBody,
+    name: str,
+    axis: Sequence[float],
+    limits: tuple[float, float],
+    *,
+    armature: float,
+    damping: float,
+) -> mujoco.MjsJoint:
+    return body.add_joint(
+        name=name,
+        type=mujoco.mjtJoint.mjJNT_HINGE,
+        axis=list(axis),
+        range=list(limits),
+        limited=mujoco.mjtLimited.mjLIMITED_TRUE,
+        armature=armature,
+        damping=damping,
+    )
 
 
-def add_slide(body: mujoco.MjsBody, name: str, axis: Sequence[float], limits: tuple[float, float], *,
-              armature: float, damping: float) -> mujoco.MjsJoint:
-    return body.add_joint(name=name, type=mujoco.mjtJoint.mjJNT_SLIDE, axis=list(axis), range=list(limits),
-                          limited=mujoco.mjtLimited.mjLIMITED_TRUE, armature=armature, damping=damping)
+def add_slide(
+    body: mujoco.MjsBody,
+    name: str,
+    axis: Sequence[float],
+    limits: tuple[float, float],
+    *,
+    armature: float,
+    damping: float,
+) -> mujoco.MjsJoint:
+    return body.add_joint(
+        name=name,
+        type=mujoco.mjtJoint.mjJNT_SLIDE,
+        axis=list(axis),
+        range=list(limits),
+        limited=mujoco.mjtLimited.mjLIMITED_TRUE,
+        armature=armature,
+        damping=damping,
+    )
 
 
-def add_position_actuator(spec: mujoco.MjSpec, joint: str, kp: float, kv: float, force: float,
-                          limits: tuple[float, float]) -> mujoco.MjsActuator:
+def add_position_actuator(
+    spec: mujoco.MjSpec, joint: str, kp: float, kv: float, force: float, limits: tuple[float, float]
+) -> mujoco.MjsActuator:
     """A PD position servo named after its joint, with ctrl in joint units clamped to the joint limits."""
     act = spec.add_actuator(name=joint, target=joint, trntype=mujoco.mjtTrn.mjTRN_JOINT)
     act.set_to_position(kp=kp, kv=kv)
@@ -81,8 +114,14 @@ def add_position_actuator(spec: mujoco.MjSpec, joint: str, kp: float, kv: float,
     return act
 
 
-def add_camera(body: mujoco.MjsBody, name: str, pos: Sequence[float], forward: Sequence[float],
-               up: Sequence[float], fovy: float = 90.0) -> mujoco.MjsCamera:
+def add_camera(
+    body: mujoco.MjsBody,
+    name: str,
+    pos: Sequence[float],
+    forward: Sequence[float],
+    up: Sequence[float],
+    fovy: float = 90.0,
+) -> mujoco.MjsCamera:
     """A camera looking along `forward` with `up` on top (MuJoCo cameras look down their -z axis)."""
     forward = np.asarray(forward, float) / np.linalg.norm(forward)
     up = np.asarray(up, float)
@@ -111,18 +150,36 @@ def add_arm(
     axes = (*ARM_AXES, tuple(last_axis))
     offsets = ((0, 0, 0), (0, 0, 0), (0, 0, 0), (0, 0, -upper_arm), (0, 0, 0), (0, 0, -forearm), (0, 0, 0))
     parent = shoulder
-    for index, (name, joint, axis, offset, limit) in enumerate(zip(links, joints, axes, offsets, limits,
-                                                                   strict=True)):
+    for index, (name, joint, axis, offset, limit) in enumerate(
+        zip(links, joints, axes, offsets, limits, strict=True)
+    ):
         link = add_link(parent, name, offset)
         add_hinge(link, joint, axis, limit, armature=0.05, damping=1.0)
         if index == 2:
-            add_geom(link, mujoco.mjtGeom.mjGEOM_CAPSULE, (0.045,), fromto=(0, 0, -0.03, 0, 0, -upper_arm + 0.03),
-                     mass=1.5)
+            add_geom(
+                link,
+                mujoco.mjtGeom.mjGEOM_CAPSULE,
+                (0.045,),
+                fromto=(0, 0, -0.03, 0, 0, -upper_arm + 0.03),
+                mass=1.5,
+            )
         elif index == 4:
-            add_geom(link, mujoco.mjtGeom.mjGEOM_CAPSULE, (0.04,), fromto=(0, 0, -0.03, 0, 0, -forearm + 0.03),
-                     mass=1.2)
+            add_geom(
+                link,
+                mujoco.mjtGeom.mjGEOM_CAPSULE,
+                (0.04,),
+                fromto=(0, 0, -0.03, 0, 0, -forearm + 0.03),
+                mass=1.2,
+            )
         elif index == 6:
-            add_geom(link, mujoco.mjtGeom.mjGEOM_CYLINDER, (0.04, 0.02), pos=(0, 0, -0.02), rgba=DARK_RGBA, mass=0.3)
+            add_geom(
+                link,
+                mujoco.mjtGeom.mjGEOM_CYLINDER,
+                (0.04, 0.02),
+                pos=(0, 0, -0.02),
+                rgba=DARK_RGBA,
+                mass=0.3,
+            )
         else:
             add_geom(link, mujoco.mjtGeom.mjGEOM_SPHERE, (0.05,), collide=False, mass=0.5)
         parent = link
@@ -137,12 +194,20 @@ def add_mobile_base(spec: mujoco.MjSpec, base_name: str, slide_limit: float) -> 
     root = spec.worldbody.add_body(name="Root", mocap=True)
     yaw = add_link(root, "basex", (0, 0, 0))
     add_hinge(yaw, "slider_basex", (0, 0, 1), (-np.pi, np.pi), armature=1.0, damping=5.0)
-    add_geom(yaw, mujoco.mjtGeom.mjGEOM_CYLINDER, (0.1, 0.01), pos=(0, 0, 0.02), collide=False, rgba=DARK_RGBA,
-             mass=1.0)
+    add_geom(
+        yaw,
+        mujoco.mjtGeom.mjGEOM_CYLINDER,
+        (0.1, 0.01),
+        pos=(0, 0, 0.02),
+        collide=False,
+        rgba=DARK_RGBA,
+        mass=1.0,
+    )
     base = add_link(yaw, base_name, (0, 0, 0))
     add_slide(base, "slider_basey", (0, 1, 0), (-slide_limit, slide_limit), armature=1.0, damping=5.0)
     add_geom(base, mujoco.mjtGeom.mjGEOM_CYLINDER, (0.26, 0.12), pos=(0, 0, 0.15), rgba=DARK_RGBA, mass=20.0)
     add_position_actuator(spec, "slider_basex", kp=3000.0, kv=400.0, force=2000.0, limits=(-np.pi, np.pi))
-    add_position_actuator(spec, "slider_basey", kp=8000.0, kv=800.0, force=4000.0,
-                          limits=(-slide_limit, slide_limit))
+    add_position_actuator(
+        spec, "slider_basey", kp=8000.0, kv=800.0, force=4000.0, limits=(-slide_limit, slide_limit)
+    )
     return base

@@ -48,12 +48,22 @@ def _build_gripper(spec: mujoco.MjSpec, wrist: mujoco.MjsBody) -> None:
     center.add_site(name="palm", size=[0.008, 0, 0], rgba=[1, 0, 0, 1], group=4)
     add_camera(base, "wrist_camera", pos=(0.0, -0.06, 0.02), forward=(0, 0, 1), up=(1, 0, 0))
     pad_friction = (1.5, 0.01, 0.001)
-    for side, name, joint in ((1, "gripper_r_outer_link5", GRIPPER_JOINT), (-1, "gripper_r_inner_link5", GRIPPER_MIMIC)):
+    for side, name, joint in (
+        (1, "gripper_r_outer_link5", GRIPPER_JOINT),
+        (-1, "gripper_r_inner_link5", GRIPPER_MIMIC),
+    ):
         finger = add_link(base, name, (0, 0, 0))
         # Positive joint values open the gripper: each finger slides outward along its side of the x axis.
         add_slide(finger, joint, (side, 0, 0), (0.0, FINGER_TRAVEL), armature=0.01, damping=20.0)
-        add_geom(finger, BOX, (0.006, 0.018, 0.045), pos=(side * 0.008, 0, GRIPPER_REACH - 0.02),
-                 rgba=DARK_RGBA, mass=0.05, friction=pad_friction)
+        add_geom(
+            finger,
+            BOX,
+            (0.006, 0.018, 0.045),
+            pos=(side * 0.008, 0, GRIPPER_REACH - 0.02),
+            rgba=DARK_RGBA,
+            mass=0.05,
+            friction=pad_friction,
+        )
         finger.add_site(name=f"{name}_tip", pos=[side * 0.008, 0, GRIPPER_REACH], size=[0.006, 0, 0], group=4)
         add_position_actuator(spec, joint, kp=200.0, kv=5.0, force=8.0, limits=(0.0, FINGER_TRAVEL))
 
@@ -70,10 +80,14 @@ def build_g1_spec() -> mujoco.MjSpec:
     head = add_link(chest, "head_link2", (0, 0.02, SHOULDER_HEIGHT - 0.7 + 0.25))
     add_geom(head, BOX, (0.08, 0.08, 0.09), collide=False, rgba=DARK_RGBA, mass=1.0)
     # Head camera: forward along +y pitched 35° down (the reference's head pitch default is 0.6 rad).
-    add_camera(head, "head_camera", pos=(0, 0.09, 0.0), forward=(0, math.cos(0.6), -math.sin(0.6)), up=(0, 0, 1))
+    add_camera(
+        head, "head_camera", pos=(0, 0.09, 0.0), forward=(0, math.cos(0.6), -math.sin(0.6)), up=(0, 0, 1)
+    )
     arm_base = add_link(chest, "arm_base_link", (0, 0, SHOULDER_HEIGHT - 0.7))
     left = add_link(arm_base, "arm_l_base_link", (-0.2, 0, 0))  # left arm: fixed, hanging
-    add_geom(left, CAPSULE, (0.045,), fromto=(0, 0, 0, 0, 0.05, -UPPER_ARM - FOREARM), collide=False, mass=2.0)
+    add_geom(
+        left, CAPSULE, (0.045,), fromto=(0, 0, 0, 0, 0.05, -UPPER_ARM - FOREARM), collide=False, mass=2.0
+    )
     shoulder = add_link(arm_base, "arm_r_base_link", (0.2, 0, 0))
     links = [f"arm_r_link{i}" for i in range(1, 7)] + ["arm_r_end_link"]
     wrist = add_arm(shoulder, links, ARM_JOINTS, [(-math.pi, math.pi)] * 7, (0, 1, 0), UPPER_ARM, FOREARM)
@@ -93,13 +107,23 @@ G1 = RobotDescription(
     palm_site="palm",
     finger_sites=("palm", "gripper_r_inner_link5_tip", "gripper_r_outer_link5_tip"),
     active_bodies=(
-        "base_link", "body_link1", "body_link2", "arm_base_link", "arm_r_base_link",
-        *(f"arm_r_link{i}" for i in range(1, 7)), "arm_r_end_link",
-        "gripper_r_center_link", "gripper_r_inner_link5", "gripper_r_outer_link5",
+        "base_link",
+        "body_link1",
+        "body_link2",
+        "arm_base_link",
+        "arm_r_base_link",
+        *(f"arm_r_link{i}" for i in range(1, 7)),
+        "arm_r_end_link",
+        "gripper_r_center_link",
+        "gripper_r_inner_link5",
+        "gripper_r_outer_link5",
     ),
     base_body="base_link",
-    default_qpos={**dict(zip(ARM_JOINTS, DEFAULT_ARM, strict=True)), GRIPPER_JOINT: FINGER_TRAVEL,
-                  GRIPPER_MIMIC: FINGER_TRAVEL},
+    default_qpos={
+        **dict(zip(ARM_JOINTS, DEFAULT_ARM, strict=True)),
+        GRIPPER_JOINT: FINGER_TRAVEL,
+        GRIPPER_MIMIC: FINGER_TRAVEL,
+    },
     grasp_hand_qpos={GRIPPER_JOINT: 0.0},
     default_root_xy=(0.0, -1.5),
     head_camera="head_camera",

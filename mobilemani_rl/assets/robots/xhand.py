@@ -32,8 +32,15 @@ BOX = mujoco.mjtGeom.mjGEOM_BOX
 CAPSULE = mujoco.mjtGeom.mjGEOM_CAPSULE
 
 ARM_JOINTS = tuple(f"right_arm_joint{i}" for i in range(1, 8))
-ARM_LIMITS = ((-3.107, 3.107), (-2.269, 2.269), (-3.107, 3.107), (-2.356, 2.356), (-3.107, 3.107),
-              (-2.234, 2.234), (-6.283, 6.283))
+ARM_LIMITS = (
+    (-3.107, 3.107),
+    (-2.269, 2.269),
+    (-3.107, 3.107),
+    (-2.356, 2.356),
+    (-3.107, 3.107),
+    (-2.234, 2.234),
+    (-6.283, 6.283),
+)
 UPPER_ARM, FOREARM = 0.30, 0.28
 # Forearm pointing forward and slightly down, wrist flexed so that the fingers hang down and the palm faces
 # forward (+y) at (0.2, 0.55, 0.45) in the base frame. The wrist pitch stays far from 0, where the forearm and
@@ -42,20 +49,50 @@ DEFAULT_ARM = (0.853, 0.0, 0.0, 0.637, 0.0, -1.49, 0.0)
 
 P = "right_hand_"
 HAND_LIMITS = {
-    "index_bend": (-0.175, 0.175), "mid_joint1": (0.0, 1.92), "pinky_joint1": (0.0, 1.92),
-    "ring_joint1": (0.0, 1.92), "thumb_bend": (0.0, 1.83), "index_joint1": (0.0, 1.92),
-    "mid_joint2": (0.0, 1.94), "pinky_joint2": (0.0, 1.92), "ring_joint2": (0.0, 1.92),
-    "thumb_rota_joint1": (-1.05, 1.57), "index_joint2": (0.0, 1.92), "thumb_rota_joint2": (-0.175, 1.83),
+    "index_bend": (-0.175, 0.175),
+    "mid_joint1": (0.0, 1.92),
+    "pinky_joint1": (0.0, 1.92),
+    "ring_joint1": (0.0, 1.92),
+    "thumb_bend": (0.0, 1.83),
+    "index_joint1": (0.0, 1.92),
+    "mid_joint2": (0.0, 1.94),
+    "pinky_joint2": (0.0, 1.92),
+    "ring_joint2": (0.0, 1.92),
+    "thumb_rota_joint1": (-1.05, 1.57),
+    "index_joint2": (0.0, 1.92),
+    "thumb_rota_joint2": (-0.175, 1.83),
 }
 HAND_JOINTS = tuple(P + name for name in HAND_LIMITS)  # reference action order
 # A caging grasp of a bar at the palm point: the four fingers curl over its far side, the thumb stands up beside
 # the wrist and its distal phalanx crosses over the palm.
-HAND_GRASP = {"thumb_bend": 1.5, "thumb_rota_joint1": 1.5, "thumb_rota_joint2": 1.6, "index_bend": 0.0,
-              "index_joint1": 1.6, "mid_joint1": 1.6, "ring_joint1": 1.6, "pinky_joint1": 1.6,
-              "index_joint2": 1.7, "mid_joint2": 1.7, "ring_joint2": 1.7, "pinky_joint2": 1.7}
-HAND_DEFAULT = {"thumb_bend": 1.5, "thumb_rota_joint1": 0.0, "thumb_rota_joint2": 0.5, "index_bend": 0.1,
-                "index_joint1": 0.0, "mid_joint1": 0.0, "ring_joint1": 0.0, "pinky_joint1": 0.0,
-                "index_joint2": 0.5, "mid_joint2": 0.5, "ring_joint2": 0.5, "pinky_joint2": 0.5}
+HAND_GRASP = {
+    "thumb_bend": 1.5,
+    "thumb_rota_joint1": 1.5,
+    "thumb_rota_joint2": 1.6,
+    "index_bend": 0.0,
+    "index_joint1": 1.6,
+    "mid_joint1": 1.6,
+    "ring_joint1": 1.6,
+    "pinky_joint1": 1.6,
+    "index_joint2": 1.7,
+    "mid_joint2": 1.7,
+    "ring_joint2": 1.7,
+    "pinky_joint2": 1.7,
+}
+HAND_DEFAULT = {
+    "thumb_bend": 1.5,
+    "thumb_rota_joint1": 0.0,
+    "thumb_rota_joint2": 0.5,
+    "index_bend": 0.1,
+    "index_joint1": 0.0,
+    "mid_joint1": 0.0,
+    "ring_joint1": 0.0,
+    "pinky_joint1": 0.0,
+    "index_joint2": 0.5,
+    "mid_joint2": 0.5,
+    "ring_joint2": 0.5,
+    "pinky_joint2": 0.5,
+}
 
 PALM = (0.09, 0.09, 0.03)  # length (x), width (y), thickness (z): the palm face is at z = 0.03
 WRIST_X = 0.03  # the palm spans x in [WRIST_X - 0.09, WRIST_X]
@@ -81,13 +118,26 @@ def _add_phalanx(parent: mujoco.MjsBody, link: str, joint: str, pos, length: flo
     """A link pointing along its local -x, flexing about local +y."""
     body = add_link(parent, P + link, pos)
     add_hinge(body, P + joint, CURL_AXIS, HAND_LIMITS[joint], armature=0.002, damping=0.05)
-    add_geom(body, CAPSULE, (0.009,), fromto=(0, 0, 0, -length, 0, 0), rgba=DARK_RGBA, mass=0.02,
-             friction=(1.5, 0.01, 0.001))
+    add_geom(
+        body,
+        CAPSULE,
+        (0.009,),
+        fromto=(0, 0, 0, -length, 0, 0),
+        rgba=DARK_RGBA,
+        mass=0.02,
+        friction=(1.5, 0.01, 0.001),
+    )
     return body
 
 
-def _add_digit(parent: mujoco.MjsBody, name: str, links: tuple[str, str], joints: tuple[str, str], pos,
-               lengths: tuple[float, float]) -> None:
+def _add_digit(
+    parent: mujoco.MjsBody,
+    name: str,
+    links: tuple[str, str],
+    joints: tuple[str, str],
+    pos,
+    lengths: tuple[float, float],
+) -> None:
     proximal = _add_phalanx(parent, links[0], joints[0], pos, lengths[0])
     distal = _add_phalanx(proximal, links[1], joints[1], (-lengths[0], 0, 0), lengths[1])
     # Tip point on the pad (+z side) near the end of the distal phalanx.
@@ -96,11 +146,18 @@ def _add_digit(parent: mujoco.MjsBody, name: str, links: tuple[str, str], joints
 
 def _build_hand(wrist: mujoco.MjsBody) -> None:
     adapter = add_link(wrist, "Right_Cylinder_link", (0, 0, -0.02), GRIPPER_QUAT)
-    add_geom(adapter, mujoco.mjtGeom.mjGEOM_CYLINDER, (0.035, 0.02), pos=(0, 0, 0.02), rgba=DARK_RGBA, mass=0.2)
+    add_geom(
+        adapter, mujoco.mjtGeom.mjGEOM_CYLINDER, (0.035, 0.02), pos=(0, 0, 0.02), rgba=DARK_RGBA, mass=0.2
+    )
     length, width, thickness = PALM
     hand = add_link(adapter, "xhand_right_base_link", (-thickness / 2, 0, 0.04 + WRIST_X), HAND_QUAT)
-    add_geom(hand, BOX, (length / 2, width / 2, thickness / 2), pos=(WRIST_X - length / 2, 0, thickness / 2),
-             mass=0.3)
+    add_geom(
+        hand,
+        BOX,
+        (length / 2, width / 2, thickness / 2),
+        pos=(WRIST_X - length / 2, 0, thickness / 2),
+        mass=0.3,
+    )
     # Palm point: the reference offset (-0.04, 0, 0.06) in the hand frame, in front of the palm face.
     hand.add_site(name="palm", pos=[-0.04, 0, 0.06], size=[0.008, 0, 0], rgba=[1, 0, 0, 1], group=4)
     # Wrist camera above the back of the wrist, looking out of the palm and slightly along the fingers.
@@ -110,18 +167,29 @@ def _build_hand(wrist: mujoco.MjsBody) -> None:
         if finger == "index":
             # Abduction about the palm normal, then the flexion chain.
             parent = add_link(hand, P + "index_bend_link", base)
-            add_hinge(parent, P + "index_bend", (0, 0, 1), HAND_LIMITS["index_bend"], armature=0.002, damping=0.05)
+            add_hinge(
+                parent, P + "index_bend", (0, 0, 1), HAND_LIMITS["index_bend"], armature=0.002, damping=0.05
+            )
             add_geom(parent, mujoco.mjtGeom.mjGEOM_SPHERE, (0.01,), collide=False, mass=0.01)
             base = (0, 0, 0)
-        links = ("index_rota_link1", "index_rota_link2") if finger == "index" else (f"{finger}_link1",
-                                                                                    f"{finger}_link2")
+        links = (
+            ("index_rota_link1", "index_rota_link2")
+            if finger == "index"
+            else (f"{finger}_link1", f"{finger}_link2")
+        )
         _add_digit(parent, finger, links, (f"{finger}_joint1", f"{finger}_joint2"), base, PHALANX)
     # Thumb: thumb_bend swings it about the palm normal from along the fingers (-x, at 0) to sideways (+y).
     bend = add_link(hand, P + "thumb_bend_link", THUMB_BASE)
     add_hinge(bend, P + "thumb_bend", (0, 0, -1), HAND_LIMITS["thumb_bend"], armature=0.002, damping=0.05)
     add_geom(bend, mujoco.mjtGeom.mjGEOM_SPHERE, (0.012,), collide=False, mass=0.01)
-    _add_digit(bend, "thumb", ("thumb_rota_link1", "thumb_rota_link2"), ("thumb_rota_joint1", "thumb_rota_joint2"),
-               (0, 0, 0), THUMB_PHALANX)
+    _add_digit(
+        bend,
+        "thumb",
+        ("thumb_rota_link1", "thumb_rota_link2"),
+        ("thumb_rota_joint1", "thumb_rota_joint2"),
+        (0, 0, 0),
+        THUMB_PHALANX,
+    )
 
 
 def build_xhand_spec() -> mujoco.MjSpec:
@@ -129,14 +197,21 @@ def build_xhand_spec() -> mujoco.MjSpec:
     spec.compiler.degree = False
     spec.modelname = "xhand"
     base = add_mobile_base(spec, "basey", slide_limit=5.0)
-    add_camera(base, "head_camera", pos=(0, 0.1, 1.0), forward=(0, math.cos(math.pi / 6), -math.sin(math.pi / 6)),
-               up=(0, 0, 1))
+    add_camera(
+        base,
+        "head_camera",
+        pos=(0, 0.1, 1.0),
+        forward=(0, math.cos(math.pi / 6), -math.sin(math.pi / 6)),
+        up=(0, 0, 1),
+    )
     torso = add_link(base, "torso_link", (0, 0, 0.3))
     add_geom(torso, BOX, (0.12, 0.09, 0.33), pos=(0, 0, 0.33), collide=False, mass=8.0)
     arm_base = add_link(base, "Right_Arm_base_link", (0.2, 0, SHOULDER_HEIGHT))
     add_geom(arm_base, mujoco.mjtGeom.mjGEOM_CYLINDER, (0.05, 0.04), collide=False, mass=0.5)
     left = add_link(base, "Left_Arm_base_link", (-0.2, 0, SHOULDER_HEIGHT))
-    add_geom(left, CAPSULE, (0.045,), fromto=(0, 0, 0, 0, 0.05, -UPPER_ARM - FOREARM), collide=False, mass=2.0)
+    add_geom(
+        left, CAPSULE, (0.045,), fromto=(0, 0, 0, 0, 0.05, -UPPER_ARM - FOREARM), collide=False, mass=2.0
+    )
     links = [f"Right_Arm_Link{i}" for i in range(1, 8)]
     wrist = add_arm(arm_base, links, ARM_JOINTS, ARM_LIMITS, (0, 0, 1), UPPER_ARM, FOREARM)
     _build_hand(wrist)
@@ -144,14 +219,27 @@ def build_xhand_spec() -> mujoco.MjSpec:
         add_position_actuator(spec, joint, kp=600.0, kv=30.0, force=300.0, limits=limits)
     for joint in HAND_JOINTS:
         # About 10 N at a fingertip: strong enough to hold handles, too weak to crush through thin parts.
-        add_position_actuator(spec, joint, kp=0.5, kv=0.06, force=0.6, limits=HAND_LIMITS[joint.removeprefix(P)])
+        add_position_actuator(
+            spec, joint, kp=0.5, kv=0.06, force=0.6, limits=HAND_LIMITS[joint.removeprefix(P)]
+        )
     return spec
 
 
 HAND_LINKS = tuple(
-    P + name for name in (
-        "pinky_link1", "pinky_link2", "ring_link1", "ring_link2", "mid_link1", "mid_link2", "index_bend_link",
-        "index_rota_link1", "index_rota_link2", "thumb_bend_link", "thumb_rota_link1", "thumb_rota_link2",
+    P + name
+    for name in (
+        "pinky_link1",
+        "pinky_link2",
+        "ring_link1",
+        "ring_link2",
+        "mid_link1",
+        "mid_link2",
+        "index_bend_link",
+        "index_rota_link1",
+        "index_rota_link2",
+        "thumb_bend_link",
+        "thumb_rota_link1",
+        "thumb_rota_link2",
     )
 )
 
@@ -163,11 +251,18 @@ XHAND = RobotDescription(
     hand_body="xhand_right_base_link",
     palm_site="palm",
     finger_sites=TIP_SITES,
-    active_bodies=("basey", "Right_Arm_base_link", *(f"Right_Arm_Link{i}" for i in range(1, 8)),
-                   "xhand_right_base_link", *HAND_LINKS),
+    active_bodies=(
+        "basey",
+        "Right_Arm_base_link",
+        *(f"Right_Arm_Link{i}" for i in range(1, 8)),
+        "xhand_right_base_link",
+        *HAND_LINKS,
+    ),
     base_body="basey",
-    default_qpos={**dict(zip(ARM_JOINTS, DEFAULT_ARM, strict=True)),
-                  **{P + name: value for name, value in HAND_DEFAULT.items()}},
+    default_qpos={
+        **dict(zip(ARM_JOINTS, DEFAULT_ARM, strict=True)),
+        **{P + name: value for name, value in HAND_DEFAULT.items()},
+    },
     grasp_hand_qpos={P + name: value for name, value in HAND_GRASP.items()},
     default_root_xy=(0.0, -1.25),
     head_camera="head_camera",

@@ -24,10 +24,26 @@ from mobilemani_rl.assets.objects.generators.lidded import box, laptop, toilet, 
 Generator = Callable[[np.random.Generator], Design]
 
 GENERATORS: dict[str, Generator] = {
-    "box": box, "toilet": toilet, "laptop": laptop, "trashcan": trashcan, "dishwasher": dishwasher, "oven": oven,
-    "microwave": microwave, "refrigerator": refrigerator, "washing_machine": washing_machine, "car": car,
-    "safe": safe, "fridge": fridge, "cabinet": cabinet, "window": window, "lever_door": lever_door,
-    "round_door": round_door, "faucet": faucet, "table": table, "cart": cart, "holistic": holistic,
+    "box": box,
+    "toilet": toilet,
+    "laptop": laptop,
+    "trashcan": trashcan,
+    "dishwasher": dishwasher,
+    "oven": oven,
+    "microwave": microwave,
+    "refrigerator": refrigerator,
+    "washing_machine": washing_machine,
+    "car": car,
+    "safe": safe,
+    "fridge": fridge,
+    "cabinet": cabinet,
+    "window": window,
+    "lever_door": lever_door,
+    "round_door": round_door,
+    "faucet": faucet,
+    "table": table,
+    "cart": cart,
+    "holistic": holistic,
 }
 
 __all__ = ["GENERATORS", "Design", "Generator"]

@@ -38,8 +38,9 @@ def _knobs(body: mujoco.MjsBody, xs: np.ndarray, y: float, z: float, radius: flo
         add_part(body, CYLINDER, (radius, 0.01), rgba, pos=(x, y - 0.01, z)).quat = Y_AXIS
 
 
-def _drop_door_appliance(rng: np.random.Generator, category: str, size: tuple[tuple[float, float], ...],
-                         strip: tuple[float, float]) -> Design:
+def _drop_door_appliance(
+    rng: np.random.Generator, category: str, size: tuple[tuple[float, float], ...], strip: tuple[float, float]
+) -> Design:
     """Oven or dishwasher: control strip on top, drop-down door with a bar along its top edge."""
     w, d, h = (uniform(rng, *r) for r in size)
     strip_h, plinth, door_t = uniform(rng, *strip), uniform(rng, 0.02, 0.05), uniform(rng, 0.025, 0.04)
@@ -53,13 +54,23 @@ def _drop_door_appliance(rng: np.random.Generator, category: str, size: tuple[tu
         spec, root = new_object_spec(category)
         add_shell(root, (w, d, h), 0.015, body_rgba)
         front = -d / 2
-        add_part(root, BOX, (w / 2, 0.01, strip_h / 2), body_rgba, pos=(0, front - 0.01 + 0.0001, h - strip_h / 2))
+        add_part(
+            root, BOX, (w / 2, 0.01, strip_h / 2), body_rgba, pos=(0, front - 0.01 + 0.0001, h - strip_h / 2)
+        )
         knob_y = front - 0.02
         _knobs(root, np.linspace(-0.35 * w, 0.35 * w, n_knobs), knob_y, h - strip_h / 2, 0.4 * strip_h, GLASS)
         height = h - strip_h - plinth - 2 * GAP
-        door = add_bottom_hinged_door(root, "door", x_range=(-w / 2, w / 2), hinge_z=plinth + GAP, height=height,
-                                      front_y=front - GAP - door_t, thickness=door_t, limits=limits,
-                                      rgba=door_rgba)
+        door = add_bottom_hinged_door(
+            root,
+            "door",
+            x_range=(-w / 2, w / 2),
+            hinge_z=plinth + GAP,
+            height=height,
+            front_y=front - GAP - door_t,
+            thickness=door_t,
+            limits=limits,
+            rgba=door_rgba,
+        )
         if window:
             add_part(door, BOX, (0.33 * w, 0.001, 0.25 * height), GLASS, pos=(0, -0.001, 0.45 * height))
         grasp = (0.0, -handle.standoff, height - 0.04)
@@ -86,9 +97,18 @@ def dishwasher(rng: np.random.Generator) -> Design:
         spec, root = new_object_spec("dishwasher")
         add_shell(root, (w, d, h), 0.015, body_rgba)
         front_h = h - 0.02
-        drawer = add_drawer(root, "drawer", opening=(w - 0.03, h - 0.03), opening_center=(0, h / 2),
-                            front_y=-d / 2, depth=d - 0.06, travel=travel, front_size=(w, front_h, 0.03),
-                            rgba=front_rgba, body_rgba=(0.6, 0.62, 0.65, 1))
+        drawer = add_drawer(
+            root,
+            "drawer",
+            opening=(w - 0.03, h - 0.03),
+            opening_center=(0, h / 2),
+            front_y=-d / 2,
+            depth=d - 0.06,
+            travel=travel,
+            front_size=(w, front_h, 0.03),
+            rgba=front_rgba,
+            body_rgba=(0.6, 0.62, 0.65, 1),
+        )
         grasp = (0.0, -0.03 - handle.standoff, front_h / 2 - 0.04)
         handle.add(drawer, grasp)
         return finish(spec, "dishwasher", drawer, grasp)
@@ -111,17 +131,32 @@ def microwave(rng: np.random.Generator) -> Design:
         add_shell(root, (w, d, h - feet), 0.012, body_rgba, z0=feet)
         for sx in (-1, 1):
             for sy in (-1, 1):
-                add_part(root, CYLINDER, (0.015, feet / 2), GLASS, pos=(sx * (w / 2 - 0.04), sy * (d / 2 - 0.04),
-                                                                       feet / 2))
+                add_part(
+                    root,
+                    CYLINDER,
+                    (0.015, feet / 2),
+                    GLASS,
+                    pos=(sx * (w / 2 - 0.04), sy * (d / 2 - 0.04), feet / 2),
+                )
         front = -d / 2
         panel_x = w / 2 - panel_w / 2
-        add_part(root, BOX, (panel_w / 2, 0.01, (h - feet) / 2), GLASS, pos=(panel_x, front + 0.01, (h + feet) / 2))
+        add_part(
+            root, BOX, (panel_w / 2, 0.01, (h - feet) / 2), GLASS, pos=(panel_x, front + 0.01, (h + feet) / 2)
+        )
         for z in np.linspace(h - 0.06, feet + 0.06, n_buttons):
             add_part(root, BOX, (0.025, 0.004, 0.008), body_rgba, pos=(panel_x, front - 0.003, z))
         door_w = w - panel_w - GAP
-        door, s = add_side_hinged_door(root, "door", hinge_x=-w / 2, width=door_w, z_range=(feet + GAP, h - GAP),
-                                       front_y=front - GAP - door_t, thickness=door_t, limits=limits,
-                                       rgba=door_rgba)
+        door, s = add_side_hinged_door(
+            root,
+            "door",
+            hinge_x=-w / 2,
+            width=door_w,
+            z_range=(feet + GAP, h - GAP),
+            front_y=front - GAP - door_t,
+            thickness=door_t,
+            limits=limits,
+            rgba=door_rgba,
+        )
         z_mid = (h + feet) / 2
         add_part(door, BOX, (0.36 * door_w, 0.001, 0.3 * h), GLASS, pos=(s * 0.45 * door_w, -0.001, z_mid))
         grasp = (s * (door_w - handle.length / 2 - 0.015), -handle.standoff, z_mid)
@@ -154,8 +189,17 @@ def washing_machine(rng: np.random.Generator) -> Design:
             add_part(root, CYLINDER, (0.03, 0.01), GLASS, pos=(dial_x, d / 2 - panel_h / 2, h + 0.13))
             hinge_y = d / 2 - panel_h - lid_t - GAP
             depth = hinge_y + d / 2
-            lid = add_lid(root, "lid", hinge_y=hinge_y, hinge_z=h + GAP, width=w - 0.01, depth=depth,
-                          thickness=lid_t, limits=limits, rgba=door_rgba)
+            lid = add_lid(
+                root,
+                "lid",
+                hinge_y=hinge_y,
+                hinge_z=h + GAP,
+                width=w - 0.01,
+                depth=depth,
+                thickness=lid_t,
+                limits=limits,
+                rgba=door_rgba,
+            )
             add_part(lid, BOX, (0.06, 0.02, 0.006), door_rgba, pos=(0, -depth - 0.02, 0.01))
             grasp = (0.0, -depth - 0.04 + 0.012, 0.01)
             return finish(spec, "washing_machine", lid, grasp)
@@ -163,9 +207,17 @@ def washing_machine(rng: np.random.Generator) -> Design:
         _knobs(root, [dial_x], front, h - panel_h / 2, 0.03, GLASS)
         cz = 0.06 + radius + 0.5 * (h - panel_h - 0.06 - 2 * radius)
         # A short hinge arm on the left carries the round door.
-        door, s = add_side_hinged_door(root, "door", hinge_x=-radius - 0.02, width=0.03,
-                                       z_range=(cz - 0.05, cz + 0.05), front_y=front - GAP - door_t,
-                                       thickness=door_t, limits=limits, rgba=door_rgba)
+        door, s = add_side_hinged_door(
+            root,
+            "door",
+            hinge_x=-radius - 0.02,
+            width=0.03,
+            z_range=(cz - 0.05, cz + 0.05),
+            front_y=front - GAP - door_t,
+            thickness=door_t,
+            limits=limits,
+            rgba=door_rgba,
+        )
         centre = s * (radius + 0.02)
         add_part(door, CYLINDER, (radius, door_t / 2), door_rgba, pos=(centre, door_t / 2, cz)).quat = Y_AXIS
         add_part(door, CYLINDER, (0.7 * radius, 0.002), GLASS, pos=(centre, -0.001, cz)).quat = Y_AXIS
@@ -210,12 +262,25 @@ def refrigerator(rng: np.random.Generator) -> Design:
             fixed.append((0.0 + GAP, x1, z0, z1) if hinge_left else (x0, -GAP, z0, z1))
             x0, x1 = (x0, -GAP) if hinge_left else (GAP, x1)
         for fx0, fx1, fz0, fz1 in fixed:
-            add_part(root, BOX, ((fx1 - fx0) / 2, door_t / 2, (fz1 - fz0) / 2), body_rgba,
-                     pos=((fx0 + fx1) / 2, front_y + door_t / 2, (fz0 + fz1) / 2))
+            add_part(
+                root,
+                BOX,
+                ((fx1 - fx0) / 2, door_t / 2, (fz1 - fz0) / 2),
+                body_rgba,
+                pos=((fx0 + fx1) / 2, front_y + door_t / 2, (fz0 + fz1) / 2),
+            )
         width = x1 - x0
-        door, s = add_side_hinged_door(root, "door", hinge_x=x0 if hinge_left else x1, width=width,
-                                       z_range=(z0, z1), front_y=front_y, thickness=door_t, limits=limits,
-                                       rgba=body_rgba)
+        door, s = add_side_hinged_door(
+            root,
+            "door",
+            hinge_x=x0 if hinge_left else x1,
+            width=width,
+            z_range=(z0, z1),
+            front_y=front_y,
+            thickness=door_t,
+            limits=limits,
+            rgba=body_rgba,
+        )
         z = float(np.clip(handle_z, z0 + handle.length / 2 + 0.03, z1 - handle.length / 2 - 0.03))
         grasp = (s * (width - 0.06), -handle.standoff, z)
         handle.add(door, grasp)
@@ -240,9 +305,17 @@ def fridge(rng: np.random.Generator) -> Design:
         add_shell(root, (w, d, h), 0.03, body_rgba)
         for z in np.linspace(0.2, h - 0.2, n_shelves):
             add_part(root, BOX, (w / 2 - 0.03, d / 2 - 0.04, 0.004), (0.8, 0.85, 0.9, 1), pos=(0, 0.02, z))
-        door, s = add_side_hinged_door(root, "door", hinge_x=-w / 2 if hinge_left else w / 2, width=w,
-                                       z_range=(GAP, h - GAP), front_y=-d / 2 - GAP - door_t, thickness=door_t,
-                                       limits=limits, rgba=body_rgba)
+        door, s = add_side_hinged_door(
+            root,
+            "door",
+            hinge_x=-w / 2 if hinge_left else w / 2,
+            width=w,
+            z_range=(GAP, h - GAP),
+            front_y=-d / 2 - GAP - door_t,
+            thickness=door_t,
+            limits=limits,
+            rgba=body_rgba,
+        )
         if glass_door:
             add_part(door, BOX, (0.38 * w, 0.001, 0.36 * h), GLASS, pos=(s * w / 2, -0.001, 0.45 * h))
         grasp = (s * w / 2, -handle.standoff, h - 0.07)
@@ -264,9 +337,17 @@ def safe(rng: np.random.Generator) -> Design:
     def build() -> mujoco.MjSpec:
         spec, root = new_object_spec("safe")
         add_shell(root, (w, d, h), wall, body_rgba)
-        door, s = add_side_hinged_door(root, "door", hinge_x=-w / 2 if hinge_left else w / 2, width=w,
-                                       z_range=(GAP, h - GAP), front_y=-d / 2 - GAP - door_t, thickness=door_t,
-                                       limits=limits, rgba=body_rgba)
+        door, s = add_side_hinged_door(
+            root,
+            "door",
+            hinge_x=-w / 2 if hinge_left else w / 2,
+            width=w,
+            z_range=(GAP, h - GAP),
+            front_y=-d / 2 - GAP - door_t,
+            thickness=door_t,
+            limits=limits,
+            rgba=body_rgba,
+        )
         add_part(door, CYLINDER, (0.035, 0.008), dial_rgba, pos=(s * 0.45 * w, -0.008, 0.7 * h)).quat = Y_AXIS
         grasp = (s * (w - 0.06 - handle.length / 2), -handle.standoff, 0.42 * h)
         handle.add(door, grasp, pivot_side=s)

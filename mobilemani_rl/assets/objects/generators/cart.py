@@ -49,27 +49,38 @@ def cart(rng: np.random.Generator) -> Design:
         for sx in (-1, 1):
             x = sx * (w / 2 - 0.03)
             add_part(root, CAPSULE, (0.012,), frame_rgba, fromto=(x, back, deck_z, x, back - 0.05, bar_h))
-        add_part(root, CAPSULE, (bar_r,), grip_rgba, fromto=(-(w / 2 - 0.03), back - 0.05, bar_h,
-                                                            w / 2 - 0.03, back - 0.05, bar_h))
+        add_part(
+            root,
+            CAPSULE,
+            (bar_r,),
+            grip_rgba,
+            fromto=(-(w / 2 - 0.03), back - 0.05, bar_h, w / 2 - 0.03, back - 0.05, bar_h),
+        )
         top = deck_z + deck_t
         if extra == "basket":
-            add_shell(root, (w - 0.02, length - 0.1, basket_h), 0.008, frame_rgba, open_side="top", z0=top,
-                      y0=0.04)
+            add_shell(
+                root, (w - 0.02, length - 0.1, basket_h), 0.008, frame_rgba, open_side="top", z0=top, y0=0.04
+            )
         elif extra == "shelf":
             for sx in (-1, 1):
                 for sy in (-1, 1):
                     x, y = sx * (w / 2 - 0.02), sy * (length / 2 - 0.03)
                     add_part(root, CYLINDER, (0.01, 0.15), frame_rgba, pos=(x, y, top + 0.15))
-            add_part(root, BOX, (w / 2, length / 2, deck_t / 2), deck_rgba, pos=(0, 0, top + 0.3 + deck_t / 2))
+            add_part(
+                root, BOX, (w / 2, length / 2, deck_t / 2), deck_rgba, pos=(0, 0, top + 0.3 + deck_t / 2)
+            )
         params = CATEGORY_PARAMS["cart"]
         set_body_mass(root, params.mass - 4 * WHEEL_MASS)
         for sx in (-1, 1):
             for sy in (-1, 1):
-                wheel = root.add_body(name=f"wheel_{'lr'[sx > 0]}{'bf'[sy > 0]}",
-                                      pos=[sx * (w / 2 - wheel_w / 2 - 0.01), sy * (length / 2 - wheel_r - 0.02),
-                                           wheel_r])
+                wheel = root.add_body(
+                    name=f"wheel_{'lr'[sx > 0]}{'bf'[sy > 0]}",
+                    pos=[sx * (w / 2 - wheel_w / 2 - 0.01), sy * (length / 2 - wheel_r - 0.02), wheel_r],
+                )
                 wheel.add_joint(name=wheel.name + "_axle", type=HINGE, axis=[1, 0, 0], damping=WHEEL_DAMPING)
-                add_part(wheel, CYLINDER, (wheel_r, wheel_w / 2), (0.1, 0.1, 0.1, 1), mass=WHEEL_MASS).quat = X_AXIS
+                add_part(
+                    wheel, CYLINDER, (wheel_r, wheel_w / 2), (0.1, 0.1, 0.1, 1), mass=WHEEL_MASS
+                ).quat = X_AXIS
         add_grasp_site(root, (0.0, back - 0.05, bar_h))
         apply_gravity_setting(spec, params)
         return spec

@@ -30,14 +30,29 @@ from mobilemani_rl.assets.objects.parts import new_object_spec
 GLASS: Rgba = PALETTES["glass"][0]
 
 
-def _frame(root: mujoco.MjsBody, opening_w: float, opening_h: float, z0: float, bar: float, depth: float,
-           front_y: float, rgba: Rgba, *, sill: bool) -> None:
+def _frame(
+    root: mujoco.MjsBody,
+    opening_w: float,
+    opening_h: float,
+    z0: float,
+    bar: float,
+    depth: float,
+    front_y: float,
+    rgba: Rgba,
+    *,
+    sill: bool,
+) -> None:
     """Jambs and head (and a sill) around an opening of (opening_w, opening_h) starting at height z0."""
     y = front_y + depth / 2
     top = z0 + opening_h
     for sx in (-1, 1):
-        add_part(root, BOX, (bar / 2, depth / 2, (top + bar) / 2), rgba,
-                 pos=(sx * (opening_w / 2 + bar / 2), y, (top + bar) / 2))
+        add_part(
+            root,
+            BOX,
+            (bar / 2, depth / 2, (top + bar) / 2),
+            rgba,
+            pos=(sx * (opening_w / 2 + bar / 2), y, (top + bar) / 2),
+        )
     add_part(root, BOX, (opening_w / 2 + bar, depth / 2, bar / 2), rgba, pos=(0, y, top + bar / 2))
     if sill:
         add_part(root, BOX, (opening_w / 2 + bar, depth / 2, z0 / 2), rgba, pos=(0, y, z0 / 2))
@@ -57,14 +72,29 @@ def _room_door(rng: np.random.Generator, category: str, kinds: tuple[str, ...]) 
     def build() -> mujoco.MjSpec:
         spec, root = new_object_spec(category)
         front_y, bottom = -depth / 2, 0.01
-        _frame(root, leaf_w + 2 * GAP, leaf_h + bottom + GAP, 0.0, bar, depth, front_y, frame_rgba, sill=False)
-        door, s = add_side_hinged_door(root, "door", hinge_x=-leaf_w / 2 if hinge_left else leaf_w / 2,
-                                       width=leaf_w, z_range=(bottom, bottom + leaf_h), front_y=front_y,
-                                       thickness=leaf_t, limits=limits, rgba=leaf_rgba)
+        _frame(
+            root, leaf_w + 2 * GAP, leaf_h + bottom + GAP, 0.0, bar, depth, front_y, frame_rgba, sill=False
+        )
+        door, s = add_side_hinged_door(
+            root,
+            "door",
+            hinge_x=-leaf_w / 2 if hinge_left else leaf_w / 2,
+            width=leaf_w,
+            z_range=(bottom, bottom + leaf_h),
+            front_y=front_y,
+            thickness=leaf_t,
+            limits=limits,
+            rgba=leaf_rgba,
+        )
         for k in range(n_panels):
             zc = bottom + leaf_h * (k + 0.5) / n_panels
-            add_part(door, BOX, (0.35 * leaf_w, 0.002, 0.4 * leaf_h / n_panels), panel_rgba,
-                     pos=(s * leaf_w / 2, -0.002, zc))
+            add_part(
+                door,
+                BOX,
+                (0.35 * leaf_w, 0.002, 0.4 * leaf_h / n_panels),
+                panel_rgba,
+                pos=(s * leaf_w / 2, -0.002, zc),
+            )
         rose_u = leaf_w - rose_inset
         grasp_u = rose_u - handle.length / 2 if handle.kind == "lever" else rose_u
         grasp = (s * grasp_u, -handle.standoff, handle_z)
@@ -100,16 +130,34 @@ def window(rng: np.random.Generator) -> Design:
         _frame(root, open_w, open_h, sill, bar, depth, front_y, frame_rgba, sill=True)
         sash_w, sash_h = open_w - 2 * GAP, open_h - 2 * GAP
         z0 = sill + GAP
-        sash, s = add_side_hinged_door(root, "sash", hinge_x=-sash_w / 2 if hinge_left else sash_w / 2,
-                                       width=stile, z_range=(z0, z0 + sash_h), front_y=front_y,
-                                       thickness=sash_t, limits=limits, rgba=sash_rgba)
+        sash, s = add_side_hinged_door(
+            root,
+            "sash",
+            hinge_x=-sash_w / 2 if hinge_left else sash_w / 2,
+            width=stile,
+            z_range=(z0, z0 + sash_h),
+            front_y=front_y,
+            thickness=sash_t,
+            limits=limits,
+            rgba=sash_rgba,
+        )
         y = sash_t / 2
-        add_part(sash, BOX, (stile / 2, sash_t / 2, sash_h / 2), sash_rgba, pos=(s * (sash_w - stile / 2), y,
-                                                                                  z0 + sash_h / 2))
+        add_part(
+            sash,
+            BOX,
+            (stile / 2, sash_t / 2, sash_h / 2),
+            sash_rgba,
+            pos=(s * (sash_w - stile / 2), y, z0 + sash_h / 2),
+        )
         for z in (z0 + stile / 2, z0 + sash_h - stile / 2):
             add_part(sash, BOX, (sash_w / 2, sash_t / 2, stile / 2), sash_rgba, pos=(s * sash_w / 2, y, z))
-        add_part(sash, BOX, (sash_w / 2 - stile, 0.003, sash_h / 2 - stile), glass, pos=(s * sash_w / 2, y,
-                                                                                          z0 + sash_h / 2))
+        add_part(
+            sash,
+            BOX,
+            (sash_w / 2 - stile, 0.003, sash_h / 2 - stile),
+            glass,
+            pos=(s * sash_w / 2, y, z0 + sash_h / 2),
+        )
         grasp = (s * (sash_w - stile / 2 - handle.length / 2), -handle.standoff, z0 + sash_h / 2)
         handle.add(sash, grasp, pivot_side=s)
         return finish(spec, "window", sash, grasp)
@@ -132,25 +180,58 @@ def car(rng: np.random.Generator) -> Design:
         spec, root = new_object_spec("car")
         front = -depth / 2
         add_part(root, BOX, (length / 2, depth / 2, (belt - 0.15) / 2), paint, pos=(0, 0, (belt + 0.15) / 2))
-        add_part(root, BOX, (0.4 * length, depth / 2 - 0.06, (roof - belt) / 2), GLASS,
-                 pos=(0, 0.03, (roof + belt) / 2))
+        add_part(
+            root,
+            BOX,
+            (0.4 * length, depth / 2 - 0.06, (roof - belt) / 2),
+            GLASS,
+            pos=(0, 0.03, (roof + belt) / 2),
+        )
         add_part(root, BOX, (0.4 * length, depth / 2 - 0.05, 0.02), paint, pos=(0, 0.03, roof))
         for sx in (-1, 1):
-            add_part(root, CYLINDER, (wheel_r, 0.1), (0.08, 0.08, 0.08, 1), pos=(sx * (length / 2 - wheel_r - 0.05),
-                                                                                  front + 0.11, wheel_r)).quat = \
-                [np.sqrt(0.5), np.sqrt(0.5), 0.0, 0.0]
+            add_part(
+                root,
+                CYLINDER,
+                (wheel_r, 0.1),
+                (0.08, 0.08, 0.08, 1),
+                pos=(sx * (length / 2 - wheel_r - 0.05), front + 0.11, wheel_r),
+            ).quat = [np.sqrt(0.5), np.sqrt(0.5), 0.0, 0.0]
         hinge_x = -door_w / 2 if front_left else door_w / 2
         front_y = front - GAP - door_t
-        door, s = add_side_hinged_door(root, "door", hinge_x=hinge_x, width=door_w, z_range=(sill, belt),
-                                       front_y=front_y, thickness=door_t, limits=limits, rgba=paint)
+        door, s = add_side_hinged_door(
+            root,
+            "door",
+            hinge_x=hinge_x,
+            width=door_w,
+            z_range=(sill, belt),
+            front_y=front_y,
+            thickness=door_t,
+            limits=limits,
+            rgba=paint,
+        )
         # Window frame of the door, thinner than its lower panel.
         frame_t, win_h = 0.03, roof - belt - 0.06
-        add_part(door, BOX, (0.03, frame_t / 2, win_h / 2), paint, pos=(s * 0.03, door_t - frame_t / 2,
-                                                                        belt + win_h / 2))
-        add_part(door, BOX, (door_w / 2, frame_t / 2, 0.02), paint, pos=(s * door_w / 2, door_t - frame_t / 2,
-                                                                         belt + win_h - 0.02))
-        add_part(door, BOX, (door_w / 2 - 0.03, 0.003, win_h / 2 - 0.02), GLASS,
-                 pos=(s * door_w / 2, door_t - frame_t / 2, belt + win_h / 2 - 0.01))
+        add_part(
+            door,
+            BOX,
+            (0.03, frame_t / 2, win_h / 2),
+            paint,
+            pos=(s * 0.03, door_t - frame_t / 2, belt + win_h / 2),
+        )
+        add_part(
+            door,
+            BOX,
+            (door_w / 2, frame_t / 2, 0.02),
+            paint,
+            pos=(s * door_w / 2, door_t - frame_t / 2, belt + win_h - 0.02),
+        )
+        add_part(
+            door,
+            BOX,
+            (door_w / 2 - 0.03, 0.003, win_h / 2 - 0.02),
+            GLASS,
+            pos=(s * door_w / 2, door_t - frame_t / 2, belt + win_h / 2 - 0.01),
+        )
         grasp = (s * (door_w - 0.1 - handle.length / 2), -handle.standoff, belt - handle_drop)
         handle.add(door, grasp)
         return finish(spec, "car", door, grasp)

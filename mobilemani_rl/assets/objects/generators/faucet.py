@@ -31,9 +31,17 @@ TIP_GRIP = 0.012
 
 def faucet(rng: np.random.Generator) -> Design:
     base_r, col_r, col_h = uniform(rng, 0.03, 0.045), uniform(rng, 0.018, 0.026), uniform(rng, 0.15, 0.24)
-    spout_z, spout_len, spout_r = uniform(rng, 0.35, 0.5) * col_h, uniform(rng, 0.1, 0.16), uniform(rng, 0.009, 0.013)
+    spout_z, spout_len, spout_r = (
+        uniform(rng, 0.35, 0.5) * col_h,
+        uniform(rng, 0.1, 0.16),
+        uniform(rng, 0.009, 0.013),
+    )
     spout_yaw = math.radians(uniform(rng, 30, 55)) * (1 if rng.random() < 0.5 else -1)
-    lever_len, lever_r, ball_r = uniform(rng, 0.08, 0.12), uniform(rng, 0.006, 0.009), uniform(rng, 0.011, 0.014)
+    lever_len, lever_r, ball_r = (
+        uniform(rng, 0.08, 0.12),
+        uniform(rng, 0.006, 0.009),
+        uniform(rng, 0.011, 0.014),
+    )
     lift = rng.random() < 0.6
     limits = hinge_range(rng, 65, 90) if lift else hinge_range(rng, 70, 110)
     swivel_sign = 1.0 if rng.random() < 0.5 else -1.0
@@ -50,8 +58,9 @@ def faucet(rng: np.random.Generator) -> Design:
         add_part(root, CAPSULE, (spout_r * 0.9,), chrome, fromto=(*end, *(end - (0, 0, 0.03))))
         pivot_z = col_h + ball_r + GAP
         axis = (-1, 0, 0) if lift else (0, 0, swivel_sign)
-        lever = add_moving_link(root, "lever", (0, 0, pivot_z), joint="lever_hinge", joint_type=HINGE, axis=axis,
-                                limits=limits)
+        lever = add_moving_link(
+            root, "lever", (0, 0, pivot_z), joint="lever_hinge", joint_type=HINGE, axis=axis, limits=limits
+        )
         add_part(lever, SPHERE, (ball_r,), lever_rgba)
         add_part(lever, CAPSULE, (lever_r,), lever_rgba, fromto=(0, 0, 0, 0, -lever_len, 0))
         grasp = (0.0, -lever_len + TIP_GRIP, 0.0)

@@ -45,16 +45,30 @@ def cabinet(rng: np.random.Generator) -> Design:
         z_range = (plinth + GAP, h - GAP)
         door_w = w / 2 - GAP if double else w
         hinge_x = -w / 2 if hinge_left else w / 2
-        door, s = add_side_hinged_door(root, "door", hinge_x=hinge_x, width=door_w, z_range=z_range,
-                                       front_y=front_y, thickness=door_t, limits=limits, rgba=door_rgba)
+        door, s = add_side_hinged_door(
+            root,
+            "door",
+            hinge_x=hinge_x,
+            width=door_w,
+            z_range=z_range,
+            front_y=front_y,
+            thickness=door_t,
+            limits=limits,
+            rgba=door_rgba,
+        )
         inset = 0.05 + (handle.length / 2 if handle.kind == "bar" else 0.0)
         grasp = (s * (door_w - inset), -handle.standoff, handle_z)
         handle.add(door, grasp)
         if double:
             # The second door stays shut: part of the carcass, with a matching handle.
             cx = s * (GAP + door_w / 2)
-            add_part(root, BOX, (door_w / 2, door_t / 2, (z_range[1] - z_range[0]) / 2), door_rgba,
-                     pos=(cx, front_y + door_t / 2, sum(z_range) / 2))
+            add_part(
+                root,
+                BOX,
+                (door_w / 2, door_t / 2, (z_range[1] - z_range[0]) / 2),
+                door_rgba,
+                pos=(cx, front_y + door_t / 2, sum(z_range) / 2),
+            )
             handle.add(root, (s * (GAP + inset), front_y - handle.standoff, handle_z))
         return finish(spec, "cabinet", door, grasp)
 
@@ -90,19 +104,40 @@ def table(rng: np.random.Generator) -> Design:
         apron_front, housing_d = -d / 2 + 0.025, d - 0.12
         housing_h = dh + 2 * wall
         z0 = leg_h - housing_h
-        add_shell(root, (dw + 2 * wall, housing_d, housing_h), wall, frame_rgba, z0=z0,
-                  y0=apron_front + housing_d / 2, x0=x_off)
+        add_shell(
+            root,
+            (dw + 2 * wall, housing_d, housing_h),
+            wall,
+            frame_rgba,
+            z0=z0,
+            y0=apron_front + housing_d / 2,
+            x0=x_off,
+        )
         inner = w / 2 - leg - 0.01
         for side in (-1, 1):
             edge = x_off + side * (dw / 2 + wall)
             span = inner - side * edge
             if span > 0.01:
-                add_part(root, BOX, (span / 2, wall / 2, housing_h / 2), frame_rgba,
-                         pos=(edge + side * span / 2, apron_front + wall / 2, z0 + housing_h / 2))
+                add_part(
+                    root,
+                    BOX,
+                    (span / 2, wall / 2, housing_h / 2),
+                    frame_rgba,
+                    pos=(edge + side * span / 2, apron_front + wall / 2, z0 + housing_h / 2),
+                )
         front = (dw + 0.016, dh + 0.016, 0.02)
-        drawer = add_drawer(root, "drawer", opening=(dw, dh), opening_center=(x_off, z0 + housing_h / 2),
-                            front_y=apron_front, depth=housing_d - 0.04, travel=travel, front_size=front,
-                            rgba=front_rgba, body_rgba=frame_rgba)
+        drawer = add_drawer(
+            root,
+            "drawer",
+            opening=(dw, dh),
+            opening_center=(x_off, z0 + housing_h / 2),
+            front_y=apron_front,
+            depth=housing_d - 0.04,
+            travel=travel,
+            front_size=front,
+            rgba=front_rgba,
+            body_rgba=frame_rgba,
+        )
         grasp = (0.0, -front[2] - handle.standoff, 0.0)
         handle.add(drawer, grasp)
         return finish(spec, "table", drawer, grasp)

@@ -35,8 +35,14 @@ from mobilemani_rl.assets.objects.parts import (
 
 Body = mujoco.MjsBody
 Shape = Callable[[Body], None]
-FRUIT = {"apple": (0.75, 0.12, 0.1, 1), "orange": (0.95, 0.55, 0.1, 1), "lemon": (0.95, 0.85, 0.2, 1),
-         "pear": (0.7, 0.8, 0.25, 1), "plum": (0.4, 0.1, 0.35, 1), "peach": (0.95, 0.6, 0.45, 1)}
+FRUIT = {
+    "apple": (0.75, 0.12, 0.1, 1),
+    "orange": (0.95, 0.55, 0.1, 1),
+    "lemon": (0.95, 0.85, 0.2, 1),
+    "pear": (0.7, 0.8, 0.25, 1),
+    "plum": (0.4, 0.1, 0.35, 1),
+    "peach": (0.95, 0.6, 0.45, 1),
+}
 STEM = (0.35, 0.22, 0.1, 1)
 
 
@@ -113,8 +119,12 @@ def _tool(rng: np.random.Generator) -> Shape:
         if kind == "spray":
             add_part(body, BOX, (a / 2, b / 2, c), rgba, pos=(0, 0, c))
             add_part(body, BOX, (0.01, 0.015, 0.012), metal, pos=(0, -0.005, 2 * c + 0.012))
-            add_part(body, CYLINDER, (0.004, 0.01), metal, pos=(0, -0.025, 2 * c + 0.018)).quat = \
-                [math.sqrt(0.5), math.sqrt(0.5), 0, 0]
+            add_part(body, CYLINDER, (0.004, 0.01), metal, pos=(0, -0.025, 2 * c + 0.018)).quat = [
+                math.sqrt(0.5),
+                math.sqrt(0.5),
+                0,
+                0,
+            ]
         elif kind == "padlock":
             add_part(body, BOX, (a / 2, 0.012, c / 2), metal, pos=(0, 0, c / 2))
             x = a / 2 - 0.008
@@ -139,28 +149,48 @@ def _toy(rng: np.random.Generator) -> Shape:
         if kind == "block":
             add_part(body, BOX, (s / 2, s / 2, s / 2), rgba, pos=(0, 0, s / 2))
         elif kind == "duck":
-            add_part(body, ELLIPSOID, (0.6 * s, 0.5 * s, 0.35 * s), (0.98, 0.85, 0.1, 1), pos=(0, 0, 0.35 * s))
+            add_part(
+                body, ELLIPSOID, (0.6 * s, 0.5 * s, 0.35 * s), (0.98, 0.85, 0.1, 1), pos=(0, 0, 0.35 * s)
+            )
             add_part(body, SPHERE, (0.28 * s,), (0.98, 0.85, 0.1, 1), pos=(0.25 * s, 0, 0.85 * s))
-            add_part(body, ELLIPSOID, (0.15 * s, 0.08 * s, 0.05 * s), (0.95, 0.45, 0.1, 1),
-                     pos=(0.55 * s, 0, 0.82 * s))
+            add_part(
+                body,
+                ELLIPSOID,
+                (0.15 * s, 0.08 * s, 0.05 * s),
+                (0.95, 0.45, 0.1, 1),
+                pos=(0.55 * s, 0, 0.82 * s),
+            )
         elif kind == "car":
             add_part(body, BOX, (0.6 * s, 0.35 * s, 0.22 * s), rgba, pos=(0, 0, 0.4 * s))
             add_part(body, BOX, (0.35 * s, 0.32 * s, 0.18 * s), accent, pos=(-0.05 * s, 0, 0.8 * s))
             for sx in (-1, 1):
                 for sy in (-1, 1):
-                    add_part(body, CYLINDER, (0.18 * s, 0.04 * s), (0.1, 0.1, 0.1, 1),
-                             pos=(sx * 0.38 * s, sy * 0.3 * s, 0.18 * s)).quat = [math.sqrt(0.5), math.sqrt(0.5), 0, 0]
+                    add_part(
+                        body,
+                        CYLINDER,
+                        (0.18 * s, 0.04 * s),
+                        (0.1, 0.1, 0.1, 1),
+                        pos=(sx * 0.38 * s, sy * 0.3 * s, 0.18 * s),
+                    ).quat = [math.sqrt(0.5), math.sqrt(0.5), 0, 0]
         else:
             add_part(body, CYLINDER, (0.5 * s, 0.006), rgba, pos=(0, 0, 0.006))
             add_part(body, CYLINDER, (0.1 * s, 0.6 * s), accent, pos=(0, 0, 0.012 + 0.6 * s))
             for k, (ring, ring_rgba) in enumerate(zip((0.45, 0.38, 0.3), rings, strict=True)):
-                add_part(body, CYLINDER, (ring * s, 0.1 * s), ring_rgba, pos=(0, 0, 0.012 + (0.2 * k + 0.1) * s))
+                add_part(
+                    body, CYLINDER, (ring * s, 0.1 * s), ring_rgba, pos=(0, 0, 0.012 + (0.2 * k + 0.1) * s)
+                )
 
     return shape
 
 
 FAMILIES: dict[str, Callable[[np.random.Generator], Shape]] = {
-    "fruit": _fruit, "bottle": _bottle, "can": _can, "box": _box, "tool": _tool, "toy": _toy}
+    "fruit": _fruit,
+    "bottle": _bottle,
+    "can": _can,
+    "box": _box,
+    "tool": _tool,
+    "toy": _toy,
+}
 
 
 def holistic(rng: np.random.Generator) -> Design:

@@ -36,8 +36,13 @@ def _tab(rng: np.random.Generator) -> tuple[float, float, float]:
     return uniform(rng, 0.06, 0.12), uniform(rng, 0.035, 0.05), uniform(rng, 0.008, 0.012)
 
 
-def _add_tab(lid: mujoco.MjsBody, edge_y: float, z: float, tab: tuple[float, float, float], rgba: Rgba,
-             ) -> tuple[float, float, float]:
+def _add_tab(
+    lid: mujoco.MjsBody,
+    edge_y: float,
+    z: float,
+    tab: tuple[float, float, float],
+    rgba: Rgba,
+) -> tuple[float, float, float]:
     """A tab sticking out of the lid's front edge at height z; returns the grasp point."""
     width, length, thick = tab
     add_part(lid, BOX, (width / 2, length / 2, thick / 2), rgba, pos=(0, edge_y - length / 2, z))
@@ -58,8 +63,17 @@ def box(rng: np.random.Generator) -> Design:
         spec, root = new_object_spec("box")
         add_shell(root, (w, d, h), wall, body_rgba, open_side="top")
         depth = d + overhang
-        lid = add_lid(root, "lid", hinge_y=d / 2, hinge_z=h + GAP, width=w + 2 * overhang, depth=depth,
-                      thickness=lid_t, limits=limits, rgba=lid_rgba)
+        lid = add_lid(
+            root,
+            "lid",
+            hinge_y=d / 2,
+            hinge_z=h + GAP,
+            width=w + 2 * overhang,
+            depth=depth,
+            thickness=lid_t,
+            limits=limits,
+            rgba=lid_rgba,
+        )
         if tab is not None:
             grasp = _add_tab(lid, -depth, lid_t / 2, tab, lid_rgba)
         else:
@@ -85,8 +99,17 @@ def laptop(rng: np.random.Generator) -> Design:
         add_part(root, BOX, (0.42 * w, 0.28 * d, 0.001), keys_rgba, pos=(0, -0.05 * d, t - 0.0005))
         add_part(root, BOX, (0.12 * w, 0.1 * d, 0.001), keys_rgba, pos=(0, -0.38 * d, t - 0.0005))
         depth = d + lip
-        screen = add_lid(root, "screen", hinge_y=d / 2, hinge_z=t + GAP, width=w - 0.004, depth=depth,
-                         thickness=screen_t, limits=limits, rgba=shell_rgba)
+        screen = add_lid(
+            root,
+            "screen",
+            hinge_y=d / 2,
+            hinge_z=t + GAP,
+            width=w - 0.004,
+            depth=depth,
+            thickness=screen_t,
+            limits=limits,
+            rgba=shell_rgba,
+        )
         add_part(screen, BOX, (0.45 * w, 0.4 * depth, 0.0008), display_rgba, pos=(0, -0.5 * depth, 0.0008))
         grasp = (0.0, -depth + 0.008, screen_t / 2)
         return finish(spec, "laptop", screen, grasp)
@@ -98,10 +121,17 @@ def toilet(rng: np.random.Generator) -> Design:
     """Pedestal, oval bowl rim, seat ring, tank against the wall, and the lid hinged in front of the tank."""
     rx, ry, rz = uniform(rng, 0.17, 0.2), uniform(rng, 0.21, 0.25), uniform(rng, 0.05, 0.07)
     rim_top = uniform(rng, 0.36, 0.42)
-    ped_w, seat_t, lid_t, lip = uniform(rng, 0.16, 0.22), uniform(rng, 0.012, 0.02), uniform(rng, 0.02, 0.03), \
-        uniform(rng, 0.02, 0.03)
+    ped_w, seat_t, lid_t, lip = (
+        uniform(rng, 0.16, 0.22),
+        uniform(rng, 0.012, 0.02),
+        uniform(rng, 0.02, 0.03),
+        uniform(rng, 0.02, 0.03),
+    )
     tank = (uniform(rng, 0.34, 0.44), uniform(rng, 0.13, 0.19), uniform(rng, 0.3, 0.38))
-    porcelain, seat_rgba = colour(rng, "ceramic", 0.02), colour(rng, choice(rng, ("ceramic", "wood", "plastic")))
+    porcelain, seat_rgba = (
+        colour(rng, "ceramic", 0.02),
+        colour(rng, choice(rng, ("ceramic", "wood", "plastic"))),
+    )
     button_rgba = colour(rng, "metal")
     limits = hinge_range(rng, 92, 100)
 
@@ -113,23 +143,46 @@ def toilet(rng: np.random.Generator) -> Design:
         # Seat ring: four flat bars on the rim.
         bar = 0.045
         for sx in (-1, 1):
-            add_part(root, BOX, (bar / 2, ry * 0.9, seat_t / 2), seat_rgba, pos=(sx * (rx - bar / 2 - 0.01), 0,
-                                                                                  rim_top + seat_t / 2))
+            add_part(
+                root,
+                BOX,
+                (bar / 2, ry * 0.9, seat_t / 2),
+                seat_rgba,
+                pos=(sx * (rx - bar / 2 - 0.01), 0, rim_top + seat_t / 2),
+            )
         for sy in (-1, 1):
-            add_part(root, BOX, (rx - 0.01, bar / 2, seat_t / 2), seat_rgba,
-                     pos=(0, sy * (0.9 * ry - bar / 2), rim_top + seat_t / 2))
+            add_part(
+                root,
+                BOX,
+                (rx - 0.01, bar / 2, seat_t / 2),
+                seat_rgba,
+                pos=(0, sy * (0.9 * ry - bar / 2), rim_top + seat_t / 2),
+            )
         hinge_y, hinge_z = ry, rim_top + seat_t + GAP
         tw, td, th = tank
         # The tank stands clear of the hinge by the lid's thickness so the lid can swing past vertical.
         tank_y = hinge_y + lid_t + 0.03 + td / 2
         add_part(root, BOX, (tw / 2, td / 2, th / 2), porcelain, pos=(0, tank_y, rim_top - 0.05 + th / 2))
-        add_part(root, BOX, (ped_w / 2, (tank_y - 0.5 * ry) / 2, (rim_top - 0.05) / 2), porcelain,
-                 pos=(0, (tank_y + 0.5 * ry) / 2, (rim_top - 0.05) / 2))
-        add_part(root, CYLINDER, (0.018, 0.006), button_rgba,
-                 pos=(0, tank_y, rim_top - 0.05 + th + 0.006))
+        add_part(
+            root,
+            BOX,
+            (ped_w / 2, (tank_y - 0.5 * ry) / 2, (rim_top - 0.05) / 2),
+            porcelain,
+            pos=(0, (tank_y + 0.5 * ry) / 2, (rim_top - 0.05) / 2),
+        )
+        add_part(root, CYLINDER, (0.018, 0.006), button_rgba, pos=(0, tank_y, rim_top - 0.05 + th + 0.006))
         depth = 2 * ry + lip
-        lid = add_lid(root, "lid", hinge_y=hinge_y, hinge_z=hinge_z, width=2 * rx, depth=depth, thickness=lid_t,
-                      limits=limits, rgba=seat_rgba)
+        lid = add_lid(
+            root,
+            "lid",
+            hinge_y=hinge_y,
+            hinge_z=hinge_z,
+            width=2 * rx,
+            depth=depth,
+            thickness=lid_t,
+            limits=limits,
+            rgba=seat_rgba,
+        )
         grasp = (0.0, -depth + TAB_GRIP, lid_t / 2)
         return finish(spec, "toilet", lid, grasp)
 
@@ -156,8 +209,17 @@ def trashcan(rng: np.random.Generator) -> Design:
             half_d, lid_w = d / 2, w + 0.01
         add_part(root, BOX, (0.05, 0.03, 0.008), pedal_rgba, pos=(0, -half_d - 0.03, 0.02))
         depth = 2 * half_d + 0.01
-        lid = add_lid(root, "lid", hinge_y=half_d, hinge_z=h + GAP, width=lid_w, depth=depth, thickness=lid_t,
-                      limits=limits, rgba=lid_rgba)
+        lid = add_lid(
+            root,
+            "lid",
+            hinge_y=half_d,
+            hinge_z=h + GAP,
+            width=lid_w,
+            depth=depth,
+            thickness=lid_t,
+            limits=limits,
+            rgba=lid_rgba,
+        )
         grasp = _add_tab(lid, -depth, lid_t / 2, tab, lid_rgba)
         return finish(spec, "trashcan", lid, grasp)
 
