@@ -1,10 +1,10 @@
 """`python -m mobilemani_data.bench robot=g1 [bench.sizes=[224,520]] [bench.episodes=2]`: export throughput.
 
-Collects `bench.episodes` scripted episodes of one combination into a temporary directory, then exports them at
-each size with the configured codec: rendered + encoded frames per second (whole export wall time, including
-replay, rendering of 2 cameras x RGB/depth/segmentation, encoding of 6 videos and parquet writing), the share
-spent rendering, and the size on disk per episode (LeRobot dataset, and the raw HDF5 shard). Prints JSON and
-a table; writes the JSON to bench.out.
+Collects `bench.episodes` scripted episodes of one combination into a temporary directory, then exports them
+at each size with the configured codec: rendered + encoded frames per second (whole export wall time,
+including replay, rendering of 2 cameras x RGB/depth/segmentation, encoding of 6 videos and parquet writing),
+the share spent rendering, and the size on disk per episode (LeRobot dataset, and the raw HDF5 shard). Prints
+JSON and a table; writes the JSON to bench.out.
 """
 
 from __future__ import annotations
@@ -72,7 +72,8 @@ def main(cfg: DictConfig) -> None:
     out.write_text(json.dumps(report, indent=2))
     print(json.dumps(report, indent=2))
     print(
-        f"{'size':>5} {'frames/s (render+encode)':>25} {'render share':>13} {'MB/episode':>11} {'frames/ep':>10}"
+        f"{'size':>5} {'frames/s (render+encode)':>25} {'render share':>13} {'MB/episode':>11} "
+        f"{'frames/ep':>10}"
     )
     for r in report["results"]:
         print(

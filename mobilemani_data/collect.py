@@ -2,9 +2,9 @@
 
     python -m mobilemani_data.collect robot=g1 data/subset=small [data/teacher=ppo] [subset.episodes=10]
 
-Complete shards are skipped, so a rerun (or a resumed multirun job) only fills in what is missing; a killed run
-leaves at most a `.partial` file, which the rerun overwrites. The count of combinations to collect is printed up
-front, and every combination's line ends with progress and an ETA.
+Complete shards are skipped, so a rerun (or a resumed multirun job) only fills in what is missing; a killed
+run leaves at most a `.partial` file, which the rerun overwrites. The count of combinations to collect is
+printed up front, and every combination's line ends with progress and an ETA.
 """
 
 from __future__ import annotations

@@ -1,6 +1,8 @@
-"""Dataset configuration dataclasses, mirrored by conf/data.yaml and its groups (conf/data/subset, conf/data/teacher).
+"""Dataset configuration dataclasses, mirrored by conf/data.yaml and its groups
+(conf/data/subset, conf/data/teacher).
 
-The env block (conf/env) is the RL env's EnvCfg; collection turns on its recording resets (docs/reference.md §8b).
+The env block (conf/env) is the RL env's EnvCfg; collection turns on its recording resets
+(docs/reference.md §8b).
 """
 
 from __future__ import annotations
@@ -55,7 +57,8 @@ class ExportCfg:
     action_convention: str = (
         "conjugate"  # base_frame.Convention; "reference": the released data's quirk (docs/reference.md §10.3)
     )
-    # The image streams written, i.e. what a stock LeRobot policy trains on (it takes every observation.images.*):
+    # The image streams written, i.e. what a stock LeRobot policy trains on
+    # (it takes every observation.images.*):
     cameras: list[str] = field(default_factory=lambda: ["head", "wrist"])  # any of schema.CAMERAS
     modalities: list[str] = field(default_factory=lambda: ["rgb", "depth", "seg"])  # any of schema.MODALITIES
     overwrite: bool = False

@@ -1,8 +1,9 @@
 """One recorded episode -> the schema's per-frame vectors and images (mobilemani_data.schema).
 
-Exported frames are the recorded states t = 1 … T-1 (the reset state is dropped as in docs/reference.md §8d). The action
-stored with frame t is the one the teacher took after seeing it (applied from state t): the label shift of
-docs/reference.md §8g happens here, so a reader takes `action` / `world.action` of a frame as its label as they are.
+Exported frames are the recorded states t = 1 … T-1 (the reset state is dropped as in docs/reference.md §8d).
+The action stored with frame t is the one the teacher took after seeing it (applied from state t): the label
+shift of docs/reference.md §8g happens here, so a reader takes `action` / `world.action` of a frame as its
+label as they are.
 """
 
 from __future__ import annotations
@@ -51,7 +52,8 @@ def camera_images(
     cameras: dict[str, str],
     keys: list[str] | None = None,
 ) -> dict[str, np.ndarray]:
-    """Render one recorded state: {feature name: (H, W, 3) uint8} for the image features `keys` (default: every
-    modality of every camera). `cameras` maps the schema's camera names (head, wrist) to the robot's MuJoCo ones.
+    """Render one recorded state: {feature name: (H, W, 3) uint8} for the image features `keys`
+    (default: every modality of every camera). `cameras` maps the schema's camera names
+    (head, wrist) to the robot's MuJoCo ones.
     """
     return frame_images(renderer.render(replayer.set_state(state)), cameras, keys)

@@ -44,7 +44,8 @@ class ExportReport:
 
 
 def check_streams(cfg: ExportCfg) -> None:
-    """export.cameras / export.modalities: non-empty, known, no repeats (checked before anything is written)."""
+    """export.cameras / export.modalities: non-empty, known, no repeats
+    (checked before anything is written)."""
     for key, values, valid in (
         ("export.cameras", cfg.cameras, schema.CAMERAS),
         ("export.modalities", cfg.modalities, schema.MODALITIES),

@@ -1,4 +1,5 @@
-"""The one frame builder: simulator quantities (+ rendered cameras) -> the dataset's feature vectors and images.
+"""The one frame builder: simulator quantities (+ rendered cameras)
+-> the dataset's feature vectors and images.
 
 The exporter (recorded episodes) and the closed-loop observer (live envs) both call these functions, so what a
 policy is trained on and what it sees in evaluation are the same function of the simulator state.
@@ -20,8 +21,8 @@ from mobilemani_rl.rotations import euler_from_quat, quat_apply, quat_conj, quat
 
 @dataclass
 class FrameState:
-    """World-frame quantities of n frames, each (n, ...): the robot's hand and base poses, its hand joints, the
-    episode's grasp point at reset and its goal point."""
+    """World-frame quantities of n frames, each (n, ...): the robot's hand and base poses, its hand joints,
+    the episode's grasp point at reset and its goal point."""
 
     hand_pos: np.ndarray
     hand_quat: np.ndarray
@@ -47,8 +48,9 @@ def world_state(s: FrameState) -> np.ndarray:
 
 
 def rotation_6d(quat: np.ndarray) -> np.ndarray:
-    """Unit quaternions (n, 4) -> the first two columns of their rotation matrices (n, 6): continuous everywhere,
-    unlike Euler angles, whose roll wraps at ±π for a palm turned over (Zhou et al., CVPR 2019)."""
+    """Unit quaternions (n, 4) -> the first two columns of their rotation matrices (n, 6): continuous
+    everywhere, unlike Euler angles, whose roll wraps at ±π for a palm turned over
+    (Zhou et al., CVPR 2019)."""
     x_axis = quat_apply(quat, np.broadcast_to([1.0, 0.0, 0.0], quat.shape[:-1] + (3,)))
     y_axis = quat_apply(quat, np.broadcast_to([0.0, 1.0, 0.0], quat.shape[:-1] + (3,)))
     return np.concatenate((x_axis, y_axis), axis=-1)
@@ -78,8 +80,8 @@ def robot_cameras(robot: RobotDescription) -> dict[str, str]:
 
 
 def modality_image(frame: CameraFrame, modality: str) -> np.ndarray:
-    """One camera's rendering as a 3-channel (H, W, 3) uint8 image: RGB, depth (0–5 m as 0–255) or segmentation
-    (label x SEGMENTATION_SCALE), single channels replicated."""
+    """One camera's rendering as a 3-channel (H, W, 3) uint8 image: RGB, depth (0–5 m as 0–255) or
+    segmentation (label x SEGMENTATION_SCALE), single channels replicated."""
     if modality == "rgb":
         return frame.rgb
     if modality == "depth":
@@ -94,9 +96,9 @@ def modality_image(frame: CameraFrame, modality: str) -> np.ndarray:
 def frame_images(
     rendered: Mapping[str, CameraFrame], cameras: Mapping[str, str], keys: Iterable[str] | None = None
 ) -> dict[str, np.ndarray]:
-    """Rendered MuJoCo cameras -> {feature name: (H, W, 3) uint8}. `cameras` maps the schema's camera names (head,
-    wrist) to the robot's MuJoCo camera names; `keys` limits the output to those feature names (default: every
-    modality of every camera in `cameras`)."""
+    """Rendered MuJoCo cameras -> {feature name: (H, W, 3) uint8}. `cameras` maps the schema's camera names
+    (head, wrist) to the robot's MuJoCo camera names; `keys` limits the output to those feature names
+    (default: every modality of every camera in `cameras`)."""
     wanted = set(keys) if keys is not None else None
     images = {}
     for camera, mj_camera in cameras.items():

@@ -24,8 +24,8 @@ def read_export_report(root: Path) -> dict:
 
 
 def check_dataset_files(meta: LeRobotDatasetMetadata) -> None:
-    """Stop with the missing files' names when an episode's parquet or video file is gone (LeRobot itself would
-    then try the hub and fail with an offline error that names neither)."""
+    """Stop with the missing files' names when an episode's parquet or video file is gone
+    (LeRobot itself would then try the hub and fail with an offline error that names neither)."""
     root = Path(meta.root)
     files = {root / meta.get_data_file_path(i) for i in range(meta.total_episodes)}
     files |= {

@@ -1,8 +1,8 @@
 """Batched teacher rollouts that keep N successful episodes, with every step's full sim state.
 
-All envs step together; each env's episodes follow one another (the env resets an ended episode inside `step`).
-Episodes are ranked by (round, env slot), where round counts the episodes an env has started, and the first N
-successes in that order are kept. Keeping the first N to *end* instead would favour short episodes.
+All envs step together; each env's episodes follow one another (the env resets an ended episode inside
+`step`). Episodes are ranked by (round, env slot), where round counts the episodes an env has started, and the
+first N successes in that order are kept. Keeping the first N to *end* instead would favour short episodes.
 A snapshot of the whole batch is taken after every step; each env's running episode holds references to the
 snapshots it spans, so memory stays bounded by the longest running episode.
 """
@@ -30,7 +30,8 @@ class Rollouts:
 
 
 def _snapshot(env: MobileManiEnv, success: np.ndarray, step: int) -> dict[str, np.ndarray | int]:
-    """Copies of every env's state after a step (or reset); `action` is filled in when the next one is chosen."""
+    """Copies of every env's state after a step (or reset);
+    `action` is filled in when the next one is chosen."""
     frames = env.frames
     snap: dict[str, np.ndarray | int] = {k: getattr(frames, k).copy() for k in FRAME_KEYS}
     snap.update(state=env.batch.state.copy(), success=success.copy(), goal_pos=env.goal_pos.copy(), step=step)
@@ -46,10 +47,11 @@ def _episode(snaps: list[dict], slot: int, round_: int) -> Episode:
 def collect_successes(
     env: MobileManiEnv, policy: Policy, episodes: int, max_steps: int, seed: int, action_noise: float = 0.0
 ) -> Rollouts:
-    """Step all envs until the first `episodes` successes in (round, slot) order are known, or `max_steps` ran.
+    """Step all envs until the first `episodes` successes in
+    (round, slot) order are known, or `max_steps` ran.
 
-    With `action_noise` > 0 the envs execute the teacher's action plus Gaussian noise of that standard deviation
-    while the clean action is recorded (DART, `dart_perturbed`).
+    With `action_noise` > 0 the envs execute the teacher's action plus Gaussian noise of that standard
+    deviation while the clean action is recorded (DART, `dart_perturbed`).
     """
     env.reset(seed=seed)
     noise_rng = np.random.default_rng(seed)
@@ -82,7 +84,8 @@ def collect_successes(
                 running[slot].append(snap)
                 continue
             attempts += 1
-            # Kept only if a stored state is successful (the terminal state is not stored, docs/reference.md §8e).
+            # Kept only if a stored state is successful
+            # (the terminal state is not stored, docs/reference.md §8e).
             if running[slot][-1]["success"][slot]:
                 successes[(rounds[slot], slot)] = _episode(running[slot], slot, rounds[slot])
             rounds[slot] += 1

@@ -4,10 +4,10 @@ Feature names, shapes and meanings. Images are stored as videos (H, W, 3) uint8;
 clipped to 0–5 m and scaled to 0–255, replicated to 3 channels; segmentation is object = 1, robot = 2,
 background = 0, scaled by SEGMENTATION_SCALE so the classes survive lossy video.
 
-Frames are the recorded control steps t = 1 … T-1 of an episode (docs/reference.md §8d: neither the reset nor the terminal
-state). Action labels are aligned at export (docs/reference.md §8g): `action` / `world.action` of frame t is the action the
-teacher took after seeing frame t (applied from state t, leading to t+1), so a reader uses them as they are; the
-last frame's label is the episode's final action (no duplication needed).
+Frames are the recorded control steps t = 1 … T-1 of an episode (docs/reference.md §8d: neither the reset nor
+the terminal state). Action labels are aligned at export (docs/reference.md §8g): `action` / `world.action` of
+frame t is the action the teacher took after seeing frame t (applied from state t, leading to t+1), so a
+reader uses them as they are; the last frame's label is the episode's final action (no duplication needed).
 """
 
 from __future__ import annotations
@@ -18,29 +18,32 @@ MODALITIES = ("rgb", "depth", "seg")
 DEPTH_RANGE_M = 5.0
 SEGMENTATION_SCALE = 100  # label * 100 in every channel: 0, 100, 200
 
-# LeRobot's conventions (lerobot.utils.feature_utils.dataset_to_policy_features): every feature named "action*" is
-# an output and only `action` is loaded in chunks; "observation.state" is the state stock policies read;
-# "observation.images.*" are their image inputs. So the policy-facing features are exactly these, and every extra
-# signal is named outside the "action" / "observation" prefixes, where LeRobot policies ignore it.
+# LeRobot's conventions (lerobot.utils.feature_utils.dataset_to_policy_features): every feature named
+# "action*" is an output and only `action` is loaded in chunks; "observation.state" is the state stock
+# policies read; "observation.images.*" are their image inputs. So the policy-facing features are exactly
+# these, and every extra signal is named outside the "action" / "observation" prefixes,
+# where LeRobot policies ignore it.
 STATE = "observation.state"  # proprioception, base frame: wrist pos (3) + 6D rotation (6), hand joints (nh)
 WRIST_POSE_DIM = 9  # observation.state[:9]: the wrist pose in the base frame (the paper's VLA state input)
 # The action in the frame's base frame (mobilemani_rl.base_frame), [-1, 1] (7 g1 / 18 xhand). Base, not world:
-# a policy sees onboard cameras and base-frame proprioception only, so a world-frame action would ask it to infer
-# the base's heading in the world, which none of its inputs carries (the paper's VLA predicts base-frame actions).
+# a policy sees onboard cameras and base-frame proprioception only, so a world-frame action would ask it to
+# infer the base's heading in the world, which none of its inputs carries
+# (the paper's VLA predicts base-frame actions).
 ACTION = "action"
 # Extras, not policy inputs by default:
 WORLD_STATE = (
     "world.state"  # world frame: hand pos (3), hand RPY (3), base pos (3), base RPY (3), hand joints (nh)
 )
 WORLD_ACTION = "world.action"  # the env's normalised world-frame action as applied, clamped to [-1, 1]
-# The episode's initial (reset-state) grasp point and its goal point: fixed world points, expressed in each frame's
-# current base frame (the base moves during the episode); the paper's "pseudo-observations" for the VLA ablation.
+# The episode's initial (reset-state) grasp point and its goal point: fixed world points, expressed in each
+# frame's current base frame (the base moves during the episode);
+# the paper's "pseudo-observations" for the VLA ablation.
 GRASP_POINT_BASE = "object.grasp_point_base"  # (3)
 GOAL_POINT_BASE = "object.goal_point_base"  # (3)
 
 EPISODE_METADATA = ("robot", "object_id", "category", "skill", "scene", "split", "seed")
-# One JSON line per episode_index with EPISODE_METADATA plus scene_split, instruction, teacher, length, and the
-# raw shard it came from; written by mobilemani_data.export next to LeRobot's own metadata.
+# One JSON line per episode_index with EPISODE_METADATA plus scene_split, instruction, teacher, length, and
+# the raw shard it came from; written by mobilemani_data.export next to LeRobot's own metadata.
 EPISODES_FILE = "meta/mobilemani_episodes.jsonl"
 EXPORT_REPORT_FILE = "meta/mobilemani_export.json"  # image size, codec, action convention, skipped shards
 

@@ -9,7 +9,8 @@ Group `episode_<k>` per kept episode, T control steps long, arrays with time fir
   action (T, A)        world-frame action applied from state t (clamped to [-1, 1]); it led to state t+1
   success (T,)         latched success flag at state t
   hand_pos/quat, base_pos/quat, palm_pos/quat, palm_linvel/angvel, grasp_pos/quat, grasp_linvel, joint_pos/vel
-                       world-frame robot and object states at t (docs/reference.md §4 quantities; joints: IK chain, hand)
+                       world-frame robot and object states at t
+                       (docs/reference.md §4 quantities; joints: IK chain, hand)
   goal_pos (3,)        the episode's goal point
 
 The state after the last action (the terminal step) is not stored: the env resets it in the same step, as the

@@ -1,4 +1,5 @@
-"""Dataset statistics like the paper's table: episodes, frames and mean episode length per skill, category, split.
+"""Dataset statistics like the paper's table: episodes,
+frames and mean episode length per skill, category, split.
 
     python -m mobilemani_data.stats robot=g1
 

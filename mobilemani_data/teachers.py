@@ -1,4 +1,5 @@
-"""Teachers for collection: the scripted reference policy, or a trained PPO checkpoint (docs/reference.md §8a)."""
+"""Teachers for collection: the scripted reference policy, or a trained PPO checkpoint
+(docs/reference.md §8a)."""
 
 from __future__ import annotations
 
@@ -56,8 +57,8 @@ def _ppo_teacher(cfg: TeacherCfg, combo: Combination, num_envs: int, seed: int) 
             f"{cfg.min_train_success} (lower it, e.g. teacher.min_train_success=0, to collect with "
             "it anyway)"
         )
-    # The teacher acts in the env it was trained in (physics, action scales), placed in the recording scene, on
-    # this combination's object (a category run's config names the category).
+    # The teacher acts in the env it was trained in (physics, action scales), placed in the recording scene,
+    # on this combination's object (a category run's config names the category).
     run_cfg = run_config(checkpoint)
     run_cfg.task.object = combo.object_id
     run_cfg.task.scene = combo.scene

@@ -39,7 +39,8 @@ def read_shards(raw_dir: Path, robot: str) -> tuple[list[Shard], list[str]]:
 
 
 def check_replay(shards: list[Shard], cfg: ValidateCfg) -> tuple[list[str], float]:
-    """Replay the first episode of as many shards as `replay_episodes` asks for; returns problems, worst error."""
+    """Replay the first episode of as many shards as `replay_episodes` asks for;
+    returns problems, worst error."""
     problems, worst = [], 0.0
     for shard in shards[: cfg.replay_episodes]:
         errors = Replayer(shard).check(shard.episodes[0])

@@ -2,8 +2,8 @@
 
 - SVT-AV1 prints a ~20-line banner for every stream it opens (6 per episode); errors only (SVT_LOG=1).
 - FFmpeg (through PyAV) logs "moving the moov atom" for every file it finalises; errors only.
-- lerobot logs a ~60-line traceback on every dataset open when torchcodec is installed but cannot load (it needs
-  system FFmpeg libraries); this becomes one line saying that PyAV decodes instead, printed once.
+- lerobot logs a ~60-line traceback on every dataset open when torchcodec is installed but cannot load
+  (it needs system FFmpeg libraries); this becomes one line saying that PyAV decodes instead, printed once.
 """
 
 from __future__ import annotations
@@ -17,7 +17,8 @@ TORCHCODEC_NOTE = "torchcodec cannot load (it needs system FFmpeg libraries); vi
 
 
 class _TorchcodecFallback(logging.Filter):
-    """Replaces lerobot's torchcodec fallback warning with TORCHCODEC_NOTE the first time, drops it afterwards."""
+    """Replaces lerobot's torchcodec fallback warning with TORCHCODEC_NOTE the first time,
+    drops it afterwards."""
 
     def __init__(self) -> None:
         super().__init__()
@@ -36,9 +37,8 @@ class _TorchcodecFallback(logging.Filter):
 def quiet_video_libraries() -> None:
     os.environ.setdefault("SVT_LOG", "1")
     av.logging.set_level(av.logging.ERROR)
-    av.logging.set_libav_level(
-        av.logging.ERROR
-    )  # lerobot's encoders hand logging back to FFmpeg's own callback
+    # lerobot's encoders hand logging back to FFmpeg's own callback
+    av.logging.set_libav_level(av.logging.ERROR)
     logger = logging.getLogger("lerobot.utils.import_utils")
     if not any(isinstance(f, _TorchcodecFallback) for f in logger.filters):
         logger.addFilter(_TorchcodecFallback())

@@ -51,7 +51,8 @@ def raw_physics_replay(
 ) -> tuple[Callable[[], None], int]:
     """The raw physics limit for the env's own workload: record the joint targets the env sends while it steps
     `segment` control steps of random actions, then replay them in a fresh `mujoco.batch.Batch` of the same
-    model, size and threads with one `Batch.rollout` call (no Python between steps), from the same start state.
+    model, size and threads with one `Batch.rollout` call (no Python between steps),
+    from the same start state.
 
     Replaying the env's controls keeps the physics work equal (moving arms, contacts); a batch stepped with
     fixed controls settles and measures a cheaper, idle robot.

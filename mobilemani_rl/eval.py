@@ -1,4 +1,5 @@
-"""Evaluate a PPO teacher checkpoint: success over N seeded episodes, reward breakdown, optional head-camera MP4s.
+"""Evaluate a PPO teacher checkpoint: success over N seeded episodes, reward breakdown,
+optional head-camera MP4s.
 
     python -m mobilemani_rl.eval checkpoint=runs/rl/g1/test/box/open/model_1499.pt [episodes=256] [seed=1000]
         [video_episodes=2]

@@ -1,7 +1,8 @@
-"""Progress lines with totals and an ETA for long loops whose per-item lines go to logs (evaluation, collection).
+"""Progress lines with totals and an ETA for long loops whose per-item lines go to logs
+(evaluation, collection).
 
-Interactive loops with many short steps (PPO, the warm start, VLA training) use tqdm bars instead; a line per unit
-of work reads better in a SLURM or `tee` log than a carriage-return bar.
+Interactive loops with many short steps (PPO, the warm start, VLA training) use tqdm bars instead; a line per
+unit of work reads better in a SLURM or `tee` log than a carriage-return bar.
 """
 
 from __future__ import annotations

@@ -82,7 +82,8 @@ def quat_from_yaw(yaw: Array) -> Array:
 
 
 def quat_from_matrix(mat: Array) -> Array:
-    """Rotation matrices (..., 3, 3) -> unit quaternions with w >= 0 (Shepperd's method, branch-free select)."""
+    """Rotation matrices (..., 3, 3) -> unit quaternions with w >= 0
+    (Shepperd's method, branch-free select)."""
     m = np.asarray(mat)
     m00, m11, m22 = m[..., 0, 0], m[..., 1, 1], m[..., 2, 2]
     candidates = np.stack(

@@ -11,8 +11,8 @@ joint. For closed objects that is the grasp direction; for a lid standing 40-80�
 the lid's plane, where the fingers can straddle its edge.
 
 A hinged link is moved along its circle rather than straight at the goal. A pull (open, pull, pick) needs the
-grip: it speeds up gradually, keeps the palm where it closed on the link, and grasps again once the grip is lost;
-a close or push goes on pushing with a hand that slipped off.
+grip: it speeds up gradually, keeps the palm where it closed on the link, and grasps again once the grip is
+lost; a close or push goes on pushing with a hand that slipped off.
 """
 
 from __future__ import annotations
@@ -127,9 +127,8 @@ class ScriptedPolicy:
         self.phase = np.zeros(n, dtype=np.int64)
         self.phase_steps = np.zeros(n, dtype=np.int64)
         self.pregrasp_done = np.zeros(n, dtype=bool)
-        self.hold_offset = np.zeros(
-            (n, 3)
-        )  # palm relative to the grip when the hand closed, in the link frame
+        # palm relative to the grip when the hand closed, in the link frame
+        self.hold_offset = np.zeros((n, 3))
         grasp = np.array([env.robot.grasp_hand_qpos[j] for j in env.robot.hand_joints])
         self.hand_closed = normalize_to_limits(grasp, env.index.hand_limits)
         if self.cfg.push_lids_shut and env.object.category in LID_CATEGORIES and env.skill == "close":
@@ -137,8 +136,9 @@ class ScriptedPolicy:
         idx = env.index
         self.follow = self.cfg.follow_handle and env.object.kind is ObjectKind.ARTICULATED
         # Rigid objects are picked from above: the arm cannot reach the centre of mass of an object low on the
-        # table with the palm turned forward, and a lifting grasp holds best under the palm (both robots pick the
-        # sampled catalog objects more often so than along the reward's grasp direction).
+        # table with the palm turned forward, and a lifting grasp holds best under the palm
+        # (both robots pick the sampled catalog objects more often so than along the reward's grasp
+        # direction).
         self.from_above = env.object.kind is ObjectKind.RIGID
         self.pregrasp_offset = self.cfg.pick_pregrasp_offset if self.from_above else self.cfg.pregrasp_offset
         if env.object.category in self.cfg.hooked_lips and env.skill == "open":
@@ -147,14 +147,14 @@ class ScriptedPolicy:
             self.grip_shift = self.cfg.lid_grip_shift
         else:
             self.grip_shift = self.cfg.pick_grip_shift if self.from_above else self.cfg.grip_shift
-        # The reward's palm rotation (+90° about world y) turns the fingers across a vertical bar, so it serves
-        # every task on one, not only the rewarded ones.
+        # The reward's palm rotation (+90° about world y) turns the fingers across a vertical bar, so it
+        # serves every task on one, not only the rewarded ones.
         self.palm_rotation = not self.from_above and (
             (env.object.category, env.skill) in PALM_ROTATION_TASKS
             or env.object.category in VERTICAL_BAR_CATEGORIES
         )
-        # Only a held link follows a pull, so a pulling hand keeps its hold or grasps again; a hand that slipped
-        # off a closing link still pushes it along.
+        # Only a held link follows a pull, so a pulling hand keeps its hold or grasps again; a hand that
+        # slipped off a closing link still pushes it along.
         self.pulls = env.skill in PULLING_SKILLS
         self.slide = int(np.flatnonzero(~idx.ik_is_hinge)[0])  # the base slide's place in the IK chain
         self.joint_id = (
@@ -184,8 +184,9 @@ class ScriptedPolicy:
 
     def face_rotation(self, approach: np.ndarray) -> np.ndarray:
         """(n, 3) RPY turning the palm onto the approach direction. With the palm rotation, the target is the
-        reward's (the reset palm orientation rolled +90° about world y) turned the shortest way onto the approach,
-        so that its roll stays about the approach direction when an open door turned the grip aside."""
+        reward's (the reset palm orientation rolled +90° about world y) turned the shortest way onto the
+        approach, so that its roll stays about the approach direction when an open door turned the grip
+        aside."""
         env, palm_quat = self.env, self.env.frames.palm_quat
         if self.from_above and self.cfg.pick_finger_yaw is not None:
             return self.top_down_rotation()
@@ -197,8 +198,8 @@ class ScriptedPolicy:
         return rotation_onto(palm_quat, target)
 
     def top_down_rotation(self) -> np.ndarray:
-        """(n, 3) RPY turning the palm down with the fingers (the hand frame's -x) `pick_finger_yaw` left of the
-        robot's heading (its base's +y)."""
+        """(n, 3) RPY turning the palm down with the fingers (the hand frame's -x) `pick_finger_yaw` left of
+        the robot's heading (its base's +y)."""
         f = self.env.frames
         heading = quat_apply(f.base_quat, np.broadcast_to(np.array([0.0, 1.0, 0.0]), (self.env.num_envs, 3)))
         fingers = rotate_about(
@@ -240,8 +241,8 @@ class ScriptedPolicy:
         target = np.where(self.pregrasp_done[:, None], grasp_target, pregrasp)
         actions[:, 0:3] = np.clip(cfg.pos_gain * (target - f.palm_pos), -1.0, 1.0)
         if self.from_above and cfg.pick_descent_while_moving is not None:
-            # The IK makes up for the descending arm's swing back toward the shoulder with the base, which lags:
-            # a fast descent lands the palm behind a low object, whose back the fingers then push away.
+            # The IK makes up for the descending arm's swing back toward the shoulder with the base, which
+            # lags: a fast descent lands the palm behind a low object, whose back the fingers then push away.
             waiting = self.pregrasp_done & (np.abs(f.joint_vel[:, self.slide]) > cfg.base_moving_speed)
             actions[waiting, 2] = np.maximum(actions[waiting, 2], -cfg.pick_descent_while_moving)
         actions[:, 3:6] = np.clip(cfg.rot_gain * face_grip, -1.0, 1.0)
@@ -269,7 +270,8 @@ class ScriptedPolicy:
         if self.pulls:
             speed = np.minimum(1.0, (self.phase_steps[:, None] + 1) / cfg.move_ramp_steps)
             move = np.clip(move, -speed, speed)
-            # Keep the palm where it closed on the link: a slip along the handle is pulled back instead of growing.
+            # Keep the palm where it closed on the link:
+            # a slip along the handle is pulled back instead of growing.
             slip = f.grasp_pos + quat_apply(f.grasp_quat, self.hold_offset) - f.palm_pos
             move += cfg.hold_gain * cfg.pos_gain * slip
         away = -to_goal / np.maximum(np.linalg.norm(to_goal, axis=1, keepdims=True), 1e-9)
@@ -280,9 +282,9 @@ class ScriptedPolicy:
         return actions
 
     def move_action(self, to_goal: np.ndarray) -> np.ndarray:
-        """(n, 3) position action moving the grip by to_goal (goal minus grip). A hinged grip moves along its circle (the goal
-        lies on it: both are the same point of the link), toward a point `arc_lead` ahead, by the arc length left:
-        pulling along the chord would drag the grip out of the hand."""
+        """(n, 3) position action moving the grip by to_goal (goal minus grip). A hinged grip moves along its
+        circle (the goal lies on it: both are the same point of the link), toward a point `arc_lead` ahead, by
+        the arc length left: pulling along the chord would drag the grip out of the hand."""
         env, f, cfg = self.env, self.env.frames, self.cfg
         if not (self.joint_is_hinge and cfg.arc_lead > 0.0):
             return cfg.pos_gain * to_goal

@@ -33,9 +33,9 @@ class SubsetCfg:
     episodes: int = 10  # successful episodes per combination (docs/reference.md §8a)
 
 
-# Reference docs/reference.md §8f: the verb is the skill (carts already pull/push, rigid objects pick); the noun is the object's
-# category with underscores as spaces, except that both door kinds are "door" and the YCB-like set, which has
-# no per-object names here, is "object".
+# Reference docs/reference.md §8f: the verb is the skill (carts already pull/push, rigid objects pick); the
+# noun is the object's category with underscores as spaces, except that both door kinds are "door" and the
+# YCB-like set, which has no per-object names here, is "object".
 NOUNS = {"lever_door": "door", "round_door": "door", "holistic": "object"}
 
 

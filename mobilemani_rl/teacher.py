@@ -28,8 +28,9 @@ def teacher_run_dir(runs_dir: str | Path, robot: str, object_id: str, skill: str
 
 
 def find_teacher_checkpoint(runs_dir: str | Path, robot: str, object_id: str, skill: str) -> Path:
-    """The newest model_*.pt of the object's own run, else of its category's run (a multi-object policy trained
-    with task.object=<category>, which acts on any object of the category); a clear error naming both."""
+    """The newest model_*.pt of the object's own run, else of its category's run (a multi-object policy
+    trained with task.object=<category>, which acts on any object of the category);
+    a clear error naming both."""
     own = teacher_run_dir(runs_dir, robot, object_id, skill)
     category = teacher_run_dir(runs_dir, robot, get_object(object_id).category, skill)
     for run_dir in (own, category):
@@ -64,9 +65,9 @@ def load_teacher(
     num_envs: int | None = None,
     cfg: DictConfig | None = None,
 ) -> tuple[MobileManiEnv | MultiObjectEnv, torch.nn.Module]:
-    """The teacher's env and deterministic actor. The actor acts in `env` when given, else in a new env built from
-    `cfg` (default: the run's own config) with `num_envs` envs; the teacher was trained with that config's physics
-    and action scales."""
+    """The teacher's env and deterministic actor. The actor acts in `env` when given, else in a new env built
+    from `cfg` (default: the run's own config) with `num_envs` envs; the teacher was trained with that
+    config's physics and action scales."""
     if not checkpoint.is_file():
         raise FileNotFoundError(f"teacher checkpoint {checkpoint} does not exist")
     runner = build_runner(

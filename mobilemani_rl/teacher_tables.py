@@ -114,8 +114,8 @@ def main() -> None:
     if not success:  # not an error: `make tables` goes on to the VLA tables, which may have results
         print(
             f"missing input: no teacher evaluation (eval_*.json) under {args.root}; `make rl` writes one, or "
-            "python -m mobilemani_rl.eval checkpoint=<run>/model_<it>.pt. The teacher tables hold the paper's "
-            "numbers only."
+            "python -m mobilemani_rl.eval checkpoint=<run>/model_<it>.pt. The teacher tables hold the "
+            "paper's numbers only."
         )
     tables = {"rl_by_skill": skill_table(success), "rl_by_category": category_table(success)}
     for name, table in tables.items():

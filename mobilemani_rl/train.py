@@ -3,8 +3,9 @@
     python -m mobilemani_rl.train robot=g1 task.object=test/box task.skill=open [rl/ppo=paper]
     python -m mobilemani_rl.train robot=g1 task.object=laptop task.skill=open objects_per_policy=8
 
-Rerunning the same command resumes from the run directory's newest checkpoint with its saved config (or, before
-PPO's first checkpoint, from the finished warm start); a finished run (result.json present) is left as it is.
+Rerunning the same command resumes from the run directory's newest checkpoint with its saved config
+(or, before PPO's first checkpoint, from the finished warm start); a finished run
+(result.json present) is left as it is.
 """
 
 from __future__ import annotations
@@ -36,8 +37,8 @@ RUN_KEYS = ("task", "env", "rl")
 
 
 def load_newest_readable(runner: MobileManiRunner, run_dir: Path) -> Path | None:
-    """Load the newest checkpoint that reads back; an unreadable one (a disk fault, a copy cut short) is named and
-    skipped, so the run continues from the previous good one."""
+    """Load the newest checkpoint that reads back; an unreadable one (a disk fault, a copy cut short) is named
+    and skipped, so the run continues from the previous good one."""
     for path in checkpoints(run_dir):
         try:
             runner.load(str(path))
@@ -72,12 +73,12 @@ def train(cfg: DictConfig) -> Path:
         )
         info = warm_start(runner.alg.actor, runner.alg.critic, runner.env.env, ppo.warm_start, ppo.gamma)
         write_json_atomic(run_dir / WARM_START, {**info, "seconds": round(time.time() - wall, 1)})
-        runner.save(
-            str(warm)
-        )  # last and atomic: only a finished warm start is kept, and a rerun starts PPO from it
+        # last and atomic: only a finished warm start is kept, and a rerun starts PPO from it
+        runner.save(str(warm))
         print(
-            f"warm start: cloned {info['episodes']} scripted episodes ({info['steps']} steps, scripted success "
-            f"{info['scripted_success']:.2f}), actor loss {info['actor_loss'][0]:.4f} -> {info['actor_loss'][1]:.4f}"
+            f"warm start: cloned {info['episodes']} scripted episodes ({info['steps']} steps, "
+            f"scripted success {info['scripted_success']:.2f}), "
+            f"actor loss {info['actor_loss'][0]:.4f} -> {info['actor_loss'][1]:.4f}"
         )
     remaining = ppo.max_iterations - start
     if remaining > 0:
@@ -118,7 +119,8 @@ def main(cfg: DictConfig) -> None:
         )
         print(
             f"{run_dir}: success {result['success_rate']:.3f} on the {trained} trained object(s), "
-            f"{cfg.eval_episodes} episodes each (all {len(result['objects'])} evaluated objects by split: {by_split})"
+            f"{cfg.eval_episodes} episodes each "
+            f"(all {len(result['objects'])} evaluated objects by split: {by_split})"
         )
 
 

@@ -1,9 +1,11 @@
-"""Train-time image augmentation for MobileManiVLA: random shifts of every camera, colour jitter of RGB images.
+"""Train-time image augmentation for MobileManiVLA: random shifts of every camera,
+colour jitter of RGB images.
 
-Evaluation rooms are unseen, so the policy must not key on the exact framing or the colours of the training rooms.
-A shift (DrQ-style: replicate-pad by `shift` pixels, crop back at a random offset) is drawn per sample and physical
-camera, so a camera's RGB and depth images stay aligned; brightness, contrast and saturation factors are drawn per
-sample and RGB image. Depth images keep their values: they encode metric distance, not appearance.
+Evaluation rooms are unseen, so the policy must not key on the exact framing or the colours of the training
+rooms. A shift (DrQ-style: replicate-pad by `shift` pixels, crop back at a random offset) is drawn per sample
+and physical camera, so a camera's RGB and depth images stay aligned; brightness, contrast and saturation
+factors are drawn per sample and RGB image. Depth images keep their values:
+they encode metric distance, not appearance.
 """
 
 from __future__ import annotations

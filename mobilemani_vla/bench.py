@@ -7,8 +7,8 @@ AdamW), on synthetic batches so that video decoding is not measured. infer: seco
 observation (backbone pass + 10 DDIM steps, guidance on). Best of the timed repeats, after one warm-up.
 Also counts the parameters of every model config (paligemma2_3b on the meta device, no weights).
 With `--dataset ROOT` (a MobileManiDataset), it also measures end-to-end training samples/s on that dataset
-(loading + step) with the decoded-frame cache and without it (LeRobot decoding the videos per sample), in the same
-run. Prints a table and JSON.
+(loading + step) with the decoded-frame cache and without it (LeRobot decoding the videos per sample), in the
+same run. Prints a table and JSON.
 """
 
 from __future__ import annotations
@@ -104,7 +104,8 @@ def bench(name: str, batch: int, steps: int, runs: int, cameras: int) -> dict:
 
 
 def bench_dataset(root: str, name: str, batch: int, steps: int) -> list[dict]:
-    """Training samples/s on a real dataset, with and without the frame cache (same model, same batches size)."""
+    """Training samples/s on a real dataset, with and without the frame cache
+    (same model, same batches size)."""
     out = []
     for cache in (False, True):
         cfg = compose_cfg(
@@ -116,9 +117,8 @@ def bench_dataset(root: str, name: str, batch: int, steps: int) -> list[dict]:
             ]
         )
         torch.manual_seed(0)
-        data = open_data(
-            cfg, cfg.model.vision.image_size, progress=False
-        )  # builds the cache if it is missing
+        # builds the cache if it is missing
+        data = open_data(cfg, cfg.model.vision.image_size, progress=False)
         tokenizer = build_word_tokenizer(data.tasks)
         model = build_model(cfg, tokenizer)
         processor = VLAProcessor(
@@ -191,7 +191,8 @@ def main() -> None:
     for r in on_data:
         print(
             f"{args.dataset} ({r['model']}, frame cache {'on' if r['cache'] else 'off'}): "
-            f"{r['train_samples_per_s']:.1f} training samples/s, {r['load_only_samples_per_s']:.1f} loaded samples/s"
+            f"{r['train_samples_per_s']:.1f} training samples/s, "
+            f"{r['load_only_samples_per_s']:.1f} loaded samples/s"
         )
     print(json.dumps({"cpu": results, "meta": big, "dataset": on_data}, indent=1))
 

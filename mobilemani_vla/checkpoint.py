@@ -100,7 +100,8 @@ def save_gathered_weights(directory: Path, state: dict[str, torch.Tensor]) -> No
 
 
 def trained_weights(directory: Path) -> dict[str, torch.Tensor]:
-    """model.safetensors, or accelerate's FSDP full state dict (tensors only: loaded with weights_only=True)."""
+    """model.safetensors, or accelerate's FSDP full state dict
+    (tensors only: loaded with weights_only=True)."""
     if (directory / WEIGHTS).is_file():
         return load_file(directory / WEIGHTS)
     if (directory / FSDP_WEIGHTS).is_file():

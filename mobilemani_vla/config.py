@@ -1,4 +1,5 @@
-"""Dataclass configs of MobileManiVLA, mirrored one-to-one by the Hydra tree under conf/ (root conf/vla.yaml)."""
+"""Dataclass configs of MobileManiVLA, mirrored one-to-one by the Hydra tree under conf/
+(root conf/vla.yaml)."""
 
 from __future__ import annotations
 
@@ -53,8 +54,8 @@ class ModelCfg:
     text: TextCfg = field(default_factory=TextCfg)
     attn_implementation: str | None = None  # transformers' choice when null (eager for Gemma-2)
     dit: str = "Ti"  # DiT size: CogACT's S, B or L, or Ti for CPU tests
-    # dtype the pretrained backbone's weights load in: bfloat16 halves a 3B model's weights, gradients and AdamW
-    # state on GPUs; the action head stays float32 and gets the cognition feature cast to it.
+    # dtype the pretrained backbone's weights load in: bfloat16 halves a 3B model's weights, gradients and
+    # AdamW state on GPUs; the action head stays float32 and gets the cognition feature cast to it.
     dtype: str = "float32"
     prompt: str = "What action should the robot take to {instruction}?"
 

@@ -1,9 +1,10 @@
 """Reads the MobileManiDataset (LeRobot v3) for the VLA: selected cameras, base-frame states, 16-step chunks.
 
-Every frame's vectors are read once into memory (`FrameTable`); images come either from the decoded-frame cache
-(`frame_cache`, the default: training is then compute-bound) or, with `data.cache=false`, from LeRobot's own
-video decoding per sample. Both give the same frame dicts to the processor. A few whole episodes are held out of
-training (`data.heldout_episodes`) for the diagnostics; normalisation bounds come from the training episodes only.
+Every frame's vectors are read once into memory (`FrameTable`); images come either from the decoded-frame
+cache (`frame_cache`, the default: training is then compute-bound) or, with `data.cache=false`, from LeRobot's
+own video decoding per sample. Both give the same frame dicts to the processor. A few whole episodes are held
+out of training (`data.heldout_episodes`) for the diagnostics;
+normalisation bounds come from the training episodes only.
 """
 
 from __future__ import annotations
@@ -80,8 +81,8 @@ class FrameTable:
         return np.flatnonzero(np.isin(self.episode_index, episodes))
 
     def chunk(self, row: int, length: int) -> tuple[np.ndarray, np.ndarray]:
-        """Dataset rows of the chunk starting at `row` (the episode's last frame repeated past its end) and the
-        padding mask, as LeRobot's delta timestamps give them."""
+        """Dataset rows of the chunk starting at `row` (the episode's last frame repeated past its end) and
+        the padding mask, as LeRobot's delta timestamps give them."""
         wanted = row + np.arange(length)
         return np.minimum(wanted, self.episode_end[row] - 1), wanted >= self.episode_end[row]
 
@@ -102,7 +103,8 @@ def fit_normalizer(table: FrameTable, rows: np.ndarray, states: list[str]) -> No
 
 
 class CachedFrames(Dataset):
-    """Frames `rows` of the dataset: images from the decoded-frame cache, vectors and chunks from the table."""
+    """Frames `rows` of the dataset: images from the decoded-frame cache,
+    vectors and chunks from the table."""
 
     def __init__(
         self,

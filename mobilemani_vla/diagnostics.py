@@ -1,8 +1,8 @@
 """Held-out diagnostics that tell whether the VLA uses its images and how well it predicts actions.
 
-- Noise-prediction error with paired noise and timesteps: with the real cognition feature, with the learned null
-  vector in its place (the classifier-free-guidance "unconditional" input), and without the state feature. If the
-  first is not clearly below the second, the action head ignores what the backbone sees.
+- Noise-prediction error with paired noise and timesteps: with the real cognition feature, with the learned
+  null vector in its place (the classifier-free-guidance "unconditional" input), and without the state
+  feature. If the first is not clearly below the second, the action head ignores what the backbone sees.
 - Open-loop action error: DDIM-sampled chunks (clipped to [-1, 1] as when executed) against the recorded ones
   (normalised units, whole chunk and first step), for each classifier-free-guidance scale asked for.
 """

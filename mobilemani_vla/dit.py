@@ -122,7 +122,8 @@ class DiT(nn.Module):
         extra: torch.Tensor | None = None,
         drop: torch.Tensor | None = None,
     ) -> torch.Tensor:
-        """noisy (B, N, A), t (B,), cognition (B, cond_dim), extra (B, width) e.g. a state feature -> eps (B, N, A)."""
+        """noisy (B, N, A), t (B,), cognition (B, cond_dim), extra (B, width) e.g. a state feature
+        -> eps (B, N, A)."""
         cond = self.t_embed(t) + self.cond_embed(cognition, drop)
         if extra is not None:
             cond = cond + extra

@@ -1,4 +1,5 @@
-"""Closed-loop evaluation config (mirrored by conf/eval.yaml and its groups conf/eval/{protocol,split,policy})."""
+"""Closed-loop evaluation config (mirrored by conf/eval.yaml and its groups
+conf/eval/{protocol,split,policy})."""
 
 from __future__ import annotations
 
@@ -42,21 +43,23 @@ class EvalCfg:
     action_convention: str = (
         "conjugate"  # base-frame action encoding of the training data (base_frame.Convention)
     )
-    # Rendered (height, width); null: the size the policy's training images had (VLA checkpoints record it), else
-    # DEFAULT_IMAGE_SIZE.
+    # Rendered (height, width); null: the size the policy's training images had (VLA checkpoints record it),
+    # else DEFAULT_IMAGE_SIZE.
     image_size: list[int] | None = None
     video_episodes: int = 0  # head-camera MP4s of the first k episodes of each combination
     env: EnvCfg = field(default_factory=EnvCfg)
 
     @property
     def batch_size(self) -> int:
-        """Episodes per env batch. Clipped to a combination's episodes because a protocol preset (conf/eval/protocol,
-        `@package subset`) cannot set the root's episodes_per_batch: `small`'s 2 episodes run as one batch of 2."""
+        """Episodes per env batch. Clipped to a combination's episodes because a protocol preset
+        (conf/eval/protocol, `@package subset`) cannot set the root's episodes_per_batch:
+        `small`'s 2 episodes run as one batch of 2."""
         return min(self.episodes_per_batch, self.subset.episodes)
 
     @property
     def split_name(self) -> str:
-        """'<object split>_objects_<scene split>_scenes', e.g. the paper's protocol: test_objects_test_scenes."""
+        """'<object split>_objects_<scene split>_scenes', e.g. the paper's protocol:
+        test_objects_test_scenes."""
         return f"{self.subset.split}_objects_{self.subset.scene_split or self.subset.split}_scenes"
 
 

@@ -1,16 +1,17 @@
 """Closed-loop evaluation of any policy on MobileManiBench (paper §4, docs/reference.md §9).
 
-    python -m mobilemani_vla.evaluate robot=g1 policy.checkpoint=outputs/vla/g1/default/tiny/checkpoints/step_X
-    python -m mobilemani_vla.evaluate eval/policy=scripted eval/protocol=ablation eval/split=seen_unseen
-    make eval ROBOT=g1 CHECKPOINT=<dir>
+  python -m mobilemani_vla.evaluate robot=g1 policy.checkpoint=outputs/vla/g1/default/tiny/checkpoints/step_X
+  python -m mobilemani_vla.evaluate eval/policy=scripted eval/protocol=ablation eval/split=seen_unseen
+  make eval ROBOT=g1 CHECKPOINT=<dir>
 
 Protocol: every (object, skill, scene) combination of the selected object split x scene split (default: test
 objects x test scenes), `subset.episodes` episodes each (10), 300 control steps, success when the grasp point
 comes within 5 cm of the goal. Episodes of a combination run as env batches of `episodes_per_batch` (at most
-`subset.episodes`); each batch's env seed comes from (seed, robot, object, skill, scene, block), so episode e of a
-combination is always the same start state. The total is printed up front, and every batch's line ends with the
-episodes done so far and an ETA. Results: <output_dir>/<robot>/<name>/<split>.jsonl (one record per episode, resumable), a summary
-JSON next to it (per skill, per category), and head-camera MP4s of the first `video_episodes` episodes.
+`subset.episodes`); each batch's env seed comes from (seed, robot, object, skill, scene, block), so episode e
+of a combination is always the same start state. The total is printed up front, and every batch's line ends
+with the episodes done so far and an ETA. Results: <output_dir>/<robot>/<name>/<split>.jsonl
+(one record per episode, resumable), a summary JSON next to it (per skill, per category), and head-camera MP4s
+of the first `video_episodes` episodes.
 """
 
 from __future__ import annotations

@@ -3,9 +3,9 @@
 Decoding four video streams costs ~20 ms per randomly accessed sample; the cache decodes every episode once,
 sequentially, resizes the frames to the model's input size and keeps them as one uint8 array
 `<dataset>/vla_cache/<cameras>_<size>px/images.npy` of shape (frames, cameras, 3, size, size), read through a
-memory map. A manifest records a fingerprint of the dataset's files (paths, sizes, modification times); a cache
-whose fingerprint no longer matches is rebuilt. The cache is built under a temporary name and renamed when
-complete, so an interrupted build is never used.
+memory map. A manifest records a fingerprint of the dataset's files (paths, sizes, modification times); a
+cache whose fingerprint no longer matches is rebuilt. The cache is built under a temporary name and renamed
+when complete, so an interrupted build is never used.
 """
 
 from __future__ import annotations
@@ -30,7 +30,8 @@ TOLERANCE_S = 1e-4  # LeRobotDataset's default timestamp tolerance
 
 
 def dataset_fingerprint(root: Path) -> str:
-    """A digest of every file of the dataset (path, size, modification time); the cache itself is outside it."""
+    """A digest of every file of the dataset (path, size, modification time);
+    the cache itself is outside it."""
     digest = hashlib.sha256()
     for sub in ("meta", "data", "videos"):
         for path in sorted(p for p in (root / sub).rglob("*") if p.is_file()):

@@ -1,4 +1,5 @@
-"""MobileManiVLA: cognition feature from PaliGemma + state feature -> DiT diffusion over base-frame actions."""
+"""MobileManiVLA: cognition feature from PaliGemma + state feature -> DiT diffusion over base-frame
+actions."""
 
 from __future__ import annotations
 
@@ -15,7 +16,8 @@ from mobilemani_vla.processor import STATE_DIMS
 
 
 class StateEncoder(nn.Module):
-    """Small MLP over the base-frame wrist pose (+ first-frame grasp / goal points) -> one DiT-width vector."""
+    """Small MLP over the base-frame wrist pose (+ first-frame grasp / goal points) -> one DiT-width
+    vector."""
 
     def __init__(self, in_dim: int, width: int) -> None:
         super().__init__()

@@ -1,4 +1,5 @@
-"""Inference API for the closed-loop evaluator: one observation -> one un-normalised base-frame action chunk."""
+"""Inference API for the closed-loop evaluator:
+one observation -> one un-normalised base-frame action chunk."""
 
 from __future__ import annotations
 
@@ -54,7 +55,8 @@ class VLAPolicy:
     ) -> np.ndarray:
         """images: camera name ("head_rgb", "wrist_depth", ...) -> (H, W, 3) uint8, at least this policy's
         cameras; vectors: dataset feature name -> (d,) values, at least `vector_inputs` (the frame builder,
-        mobilemani_data.frame, makes both). Returns (chunk, action_dim) base-frame actions in the dataset's units."""
+        mobilemani_data.frame, makes both). Returns
+        (chunk, action_dim) base-frame actions in the dataset's units."""
         batched = {c: np.asarray(v)[None] for c, v in images.items()}
         return self.predict_action_chunks(
             batched, [instruction], {k: np.asarray(v)[None] for k, v in vectors.items()}, generator
@@ -67,7 +69,8 @@ class VLAPolicy:
         vectors: dict[str, np.ndarray],
         generator: torch.Generator | None = None,
     ) -> np.ndarray:
-        """Batched `predict_action_chunk`: images (B, H, W, 3), B instructions, vectors (B, d) -> (B, chunk, A)."""
+        """Batched `predict_action_chunk`: images (B, H, W, 3), B instructions, vectors (B, d)
+        -> (B, chunk, A)."""
         missing = [c for c in self.cameras if c not in images] + [
             k for k in self.vector_inputs if k not in vectors
         ]

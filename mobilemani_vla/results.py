@@ -1,9 +1,9 @@
 """Evaluation results: one JSON record per episode in a JSONL file, resumable, and their summaries.
 
-A record's key is (robot, object_id, skill, scene, episode); a rerun skips keys already present and appends the
-rest. A line cut off by a killed run is dropped before appending, so the file never holds a broken record.
-Success rates follow the reference's metric (`load_vla_test_success`): per object first, then the mean (and std)
-over objects, for each skill, category, (category, skill group) and overall.
+A record's key is (robot, object_id, skill, scene, episode); a rerun skips keys already present and appends
+the rest. A line cut off by a killed run is dropped before appending, so the file never holds a broken record.
+Success rates follow the reference's metric (`load_vla_test_success`): per object first, then the mean
+(and std) over objects, for each skill, category, (category, skill group) and overall.
 """
 
 from __future__ import annotations

@@ -1,6 +1,6 @@
-"""A small synthetic MobileManiDataset in the exporter's schema, for tests, benchmarks and smoke runs of the VLA
-before real data exists. Each frame's images, wrist pose and action chunk are smooth functions of the frame's
-phase in its episode, so a model can fit them."""
+"""A small synthetic MobileManiDataset in the exporter's schema, for tests, benchmarks and smoke runs of the
+VLA before real data exists. Each frame's images, wrist pose and action chunk are smooth functions of the
+frame's phase in its episode, so a model can fit them."""
 
 from __future__ import annotations
 

@@ -2,12 +2,13 @@
 
     python -m mobilemani_vla.tables [results/eval] [--out results/vla] [--main default]
 
-Reads <root>/<robot>/<run>/<split>.jsonl written by `python -m mobilemani_vla.evaluate` (run = the eval `name`,
-by convention the training experiment's name) and writes Markdown + LaTeX for: success per skill and per
-category (run `--main`, unseen objects x unseen scenes), the image- and state-input ablations (runs named like
-conf/experiment/ablation_*), seen/unseen objects x scenes (run `--split-run`, its four split files) and the model
-comparison (runs named in MODELS, then every other run), plus PNG bar plots. Paper numbers sit beside ours;
-a '-' marks a result not evaluated yet, and the results files those cells wanted are listed at the end.
+Reads <root>/<robot>/<run>/<split>.jsonl written by `python -m mobilemani_vla.evaluate`
+(run = the eval `name`, by convention the training experiment's name) and writes Markdown + LaTeX for: success
+per skill and per category (run `--main`, unseen objects x unseen scenes), the image- and state-input
+ablations (runs named like conf/experiment/ablation_*), seen/unseen objects x scenes (run `--split-run`, its
+four split files) and the model comparison (runs named in MODELS, then every other run), plus PNG bar plots.
+Paper numbers sit beside ours; a '-' marks a result not evaluated yet, and the results files those cells
+wanted are listed at the end.
 """
 
 from __future__ import annotations
@@ -92,8 +93,8 @@ MODELS = [
 
 
 class RecordingResults(dict):
-    """The loaded results, noting every (robot, run, split) a table looks up and does not find: the tables name
-    their inputs in one place (their own code), and the missing ones can still be reported."""
+    """The loaded results, noting every (robot, run, split) a table looks up and does not find: the tables
+    name their inputs in one place (their own code), and the missing ones can still be reported."""
 
     def __init__(self, results: dict) -> None:
         super().__init__(results)
@@ -326,8 +327,9 @@ def main() -> None:
     print(f"results under {args.root}: {', '.join('/'.join(key) for key in sorted(results)) or 'none'}")
     if results.missing:
         print(
-            "missing inputs (their cells show '-'; `make eval NAME=<run> [SPLIT=..]` writes <robot>/<run>/<split>"
-            ".jsonl, and --main / MAIN_RUN picks the run of the per-skill and per-category tables):\n  "
+            "missing inputs (their cells show '-'; `make eval NAME=<run> [SPLIT=..]` writes "
+            "<robot>/<run>/<split>.jsonl, and --main / MAIN_RUN picks the run of the per-skill and "
+            "per-category tables):\n  "
             + "\n  ".join(f"{args.root}/{'/'.join(key)}.jsonl" for key in sorted(results.missing))
         )
 

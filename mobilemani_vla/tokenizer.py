@@ -1,4 +1,5 @@
-"""Offline tokenizers: a local pretrained directory (PaliGemma's Gemma tokenizer) or the project's word-level one.
+"""Offline tokenizers: a local pretrained directory
+(PaliGemma's Gemma tokenizer) or the project's word-level one.
 
 The word-level tokenizer covers the fixed instruction language "<skill> <object category>" plus the prompt
 template; it is deterministic (vocabulary order is fixed here) and saved with every checkpoint.
@@ -89,7 +90,8 @@ def _normalizer() -> normalizers.Normalizer:
 
 
 def load_tokenizer(path: str | Path | None, texts: Iterable[str] = ()) -> PreTrainedTokenizerBase:
-    """A saved/pretrained tokenizer directory, or the word-level tokenizer over `texts` when `path` is None."""
+    """A saved/pretrained tokenizer directory, or the word-level tokenizer over `texts` when `path` is
+    None."""
     if path is None:
         return build_word_tokenizer(texts)
     if not Path(path).is_dir():

@@ -1,10 +1,10 @@
 """Train MobileManiVLA: python -m mobilemani_vla.train [robot=g1] [vla/model=tiny] [+experiment=ablation_...].
 
-Runs through `accelerate`: single process on a CPU; on GPUs `accelerate launch --multi_gpu -m mobilemani_vla.train
-vla/model=paligemma2_3b vla/train=paper ...` (DDP, bf16 from train.mixed_precision), or an FSDP accelerate config
-(accelerate's FSDP files, plus the gathered weights as model.safetensors, which evaluation loads). Checkpoints
-(safetensors + config + normaliser + tokenizer) go to train.output_dir/checkpoints; a run resumes from the
-newest one there unless train.resume=false.
+Runs through `accelerate`: single process on a CPU; on GPUs `accelerate launch --multi_gpu -m
+mobilemani_vla.train vla/model=paligemma2_3b vla/train=paper ...` (DDP, bf16 from train.mixed_precision), or
+an FSDP accelerate config (accelerate's FSDP files, plus the gathered weights as model.safetensors, which
+evaluation loads). Checkpoints (safetensors + config + normaliser + tokenizer) go to
+train.output_dir/checkpoints; a run resumes from the newest one there unless train.resume=false.
 """
 
 from __future__ import annotations

@@ -50,7 +50,8 @@ def dataset_section(demo: Path) -> list[str]:
         "## 2. Dataset (LeRobot v3, teacher rollouts in 3 train rooms)",
         "",
         f"- {episodes} successful episodes, {frames} frames ({frames / max(episodes, 1):.0f} per episode at "
-        f"{info['fps']} FPS), cameras: {', '.join(k for k in info['features'] if k.startswith('observation.images'))}",
+        f"{info['fps']} FPS), cameras: "
+        f"{', '.join(k for k in info['features'] if k.startswith('observation.images'))}",
         "",
     ]
 

@@ -75,7 +75,8 @@ def main() -> None:
     for r in rows:
         print(
             f"| {r['robot']} | {r['object']} | {r['skill']} | {r['substeps']} | {r['timestep_ms']} | "
-            f"{r['success']:.2f} | {r['unstable_sim_steps']} | {r['max_penetration_mm']} | {r['max_slip_mm']} |"
+            f"{r['success']:.2f} | {r['unstable_sim_steps']} | {r['max_penetration_mm']} | "
+            f"{r['max_slip_mm']} |"
         )
     print(json.dumps(rows, indent=2))
 

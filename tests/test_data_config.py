@@ -1,4 +1,5 @@
-"""Combinations, instructions, shards of work, and the Hydra tree mirroring the dataclasses (no simulation)."""
+"""Combinations, instructions, shards of work,
+and the Hydra tree mirroring the dataclasses (no simulation)."""
 
 import numpy as np
 import pytest

@@ -93,8 +93,8 @@ def test_stats_report_mean_episode_length(tiny):
 
 
 def test_export_writes_only_the_chosen_streams_and_stock_policies_see_the_right_features(tiny, tmp_path):
-    """export.cameras / export.modalities pick what a stock LeRobot policy trains on; LeRobot then types exactly
-    `action` as the output and `observation.state` plus the chosen images as inputs."""
+    """export.cameras / export.modalities pick what a stock LeRobot policy trains on; LeRobot then types
+    exactly `action` as the output and `observation.state` plus the chosen images as inputs."""
     from dataclasses import replace
 
     from lerobot.configs.types import FeatureType

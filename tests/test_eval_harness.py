@@ -46,7 +46,8 @@ def test_ensemble_weights_follow_cosine_similarity():
 
 def test_ensemble_takes_each_chunks_row_for_the_current_step_and_keeps_k():
     ens = AdaptiveEnsembler(horizon=3, alpha=0.1)
-    # Chunk t predicts step t + i with value 10 * t + i in both dimensions (all positive: cos = 1, equal weights).
+    # Chunk t predicts step t + i with value 10 * t + i in both dimensions
+    # (all positive: cos = 1, equal weights).
     chunk = lambda t: np.array([[10.0 * t + i] * 2 for i in range(5)])  # noqa: E731
     np.testing.assert_allclose(ens.update(chunk(0)), [0.0, 0.0])  # one chunk at episode start
     np.testing.assert_allclose(ens.update(chunk(1)), [(1 + 10) / 2] * 2)  # rows: chunk1[0]=10, chunk0[1]=1
@@ -80,7 +81,7 @@ def test_chunk_executor_resets_per_env_and_executes_fixed_elements():
         ChunkExecutor(EnsembleCfg(action_index=4), 2)(chunks)
 
 
-# ---------------------------------------------------------------- reference policies reproduce their own success
+# ------------------------------------------------------------- reference policies reproduce their own success
 def env_for(num_envs: int, seed: int, **task) -> MobileManiEnv:
     return MobileManiEnv(EnvCfg(num_envs=num_envs, seed=seed, task=TaskCfg(**task)))
 

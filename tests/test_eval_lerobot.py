@@ -1,4 +1,5 @@
-"""A LeRobot ACT policy built for our dataset, saved and loaded back with LeRobot's API, runs through the harness."""
+"""A LeRobot ACT policy built for our dataset, saved and loaded back with LeRobot's API,
+runs through the harness."""
 
 from pathlib import Path
 
@@ -17,8 +18,9 @@ HEAD_RGB = schema.image_key("head", "rgb")
 
 
 def save_tiny_act(dataset_root: Path, out: Path) -> Path:
-    """What `lerobot-train --policy.type=act --policy.pretrained_backbone_weights=null` leaves in pretrained_model,
-    built directly (and untrained): config, weights, and the pre/post-processors with the dataset's statistics."""
+    """What `lerobot-train --policy.type=act --policy.pretrained_backbone_weights=null` leaves in
+    pretrained_model, built directly (and untrained): config, weights,
+    and the pre/post-processors with the dataset's statistics."""
     from lerobot.datasets.dataset_metadata import LeRobotDatasetMetadata
     from lerobot.policies.act.configuration_act import ACTConfig
     from lerobot.policies.act.modeling_act import ACTPolicy

@@ -61,9 +61,8 @@ def test_tables_and_plots_from_results(tmp_path):
     assert (
         "| x | x | x | x | x |  |  | 50.0 | 28.2 |" in image and "| x |  |  |  | x |  |  | - | 7.9 |" in image
     )
-    assert (
-        "|  |  |  |  |  |  |  | - | 22.4 |" not in tables["vla_ablation_state"].markdown()
-    )  # cameras all on
+    # cameras all on
+    assert "|  |  |  |  |  |  |  | - | 22.4 |" not in tables["vla_ablation_state"].markdown()
     splits = tables["vla_seen_unseen"].markdown()
     assert (
         "| seen objects, seen scenes | 100.0 | 59.6 |" in splits
@@ -80,7 +79,8 @@ def test_tables_and_plots_from_results(tmp_path):
 
 
 def test_tables_name_the_results_they_miss(tmp_path, monkeypatch, capsys):
-    """Results under another run name than --main: every table still prints, and the missing files are named."""
+    """Results under another run name than --main: every table still prints,
+    and the missing files are named."""
     root = tmp_path / "eval"
     write_run(root, "g1", "vla_open", PROTOCOL_SPLIT, {("box/0010", "open", "tabletop/16"): [True, False]})
     monkeypatch.setattr(

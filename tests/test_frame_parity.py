@@ -1,5 +1,5 @@
-"""Training inputs equal evaluation inputs: a collected, exported episode against the closed-loop observer; the
-state encoding the VLA learns from (continuous rotations, global bounds that clip nothing).
+"""Training inputs equal evaluation inputs: a collected, exported episode against the closed-loop observer;
+the state encoding the VLA learns from (continuous rotations, global bounds that clip nothing).
 
 The scripted teacher collects one episode through the real collection pipeline while the evaluator's
 ObservationBuilder watches the same env at every step; the episode is then exported through the real exporter.

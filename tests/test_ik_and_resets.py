@@ -1,4 +1,5 @@
-"""Differential IK tracking, whole-body base motion, and reset sampling ranges (docs/reference.md §2c, §3, §6)."""
+"""Differential IK tracking, whole-body base motion, and reset sampling ranges
+(docs/reference.md §2c, §3, §6)."""
 
 import numpy as np
 import pytest

@@ -1,4 +1,5 @@
-"""Driving each object's joint (or its free body) to the skill's goal reaches it without self/stage contact."""
+"""Driving each object's joint (or its free body) to the skill's goal reaches it without self/stage
+contact."""
 
 from __future__ import annotations
 

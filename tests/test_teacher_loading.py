@@ -70,7 +70,8 @@ def test_loader_finds_loads_and_refuses_code(trained_run, tmp_path, monkeypatch)
 
 
 def test_collection_falls_back_to_the_category_teacher_and_says_how_to_keep_a_weak_one(tmp_path):
-    """`make rl OBJECT=box` trains one policy for the category; collection on any box without its own run uses it."""
+    """`make rl OBJECT=box` trains one policy for the category;
+    collection on any box without its own run uses it."""
     runs_dir = tmp_path / "runs"
     with initialize_config_dir(config_dir=CONF, version_base="1.3"):
         cfg = compose(
@@ -97,9 +98,8 @@ def test_collection_falls_back_to_the_category_teacher_and_says_how_to_keep_a_we
     )
     combo = select_combinations(data.robot, data.subset)[0]
     teacher = build_teacher(data.teacher, combo, data.env, 2, seed=0)
-    assert (
-        teacher.name == str(checkpoint) and teacher.env.cfg.task.object == object_id
-    )  # one object, not the category
+    # one object, not the category
+    assert teacher.name == str(checkpoint) and teacher.env.cfg.task.object == object_id
     assert teacher.policy().shape == (2, teacher.env.num_actions)
 
     result = checkpoint.parent / RESULT

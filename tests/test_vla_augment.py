@@ -1,4 +1,5 @@
-"""Train-time image augmentation: shifts keep each camera's RGB and depth aligned, colour jitter leaves depth alone."""
+"""Train-time image augmentation: shifts keep each camera's RGB and depth aligned,
+colour jitter leaves depth alone."""
 
 import torch
 

@@ -1,5 +1,5 @@
-"""GPU-path logic checked on a CPU: FSDP-format checkpoints load, pretrained weights load in the training dtype,
-and the evaluation policy's diffusion noise comes from a generator on the model's device."""
+"""GPU-path logic checked on a CPU: FSDP-format checkpoints load, pretrained weights load in the training
+dtype, and the evaluation policy's diffusion noise comes from a generator on the model's device."""
 
 import pickle
 import shutil
@@ -60,9 +60,8 @@ def test_fsdp_full_state_dict_checkpoint_loads_and_runs_no_code(checkpoint, tmp_
     fsdp = shutil.copytree(checkpoint, tmp_path / "fsdp")
     weights = load_file(fsdp / WEIGHTS)
     (fsdp / WEIGHTS).unlink()
-    torch.save(
-        weights, fsdp / FSDP_WEIGHTS
-    )  # what accelerate's save_state writes under FSDP (FULL_STATE_DICT)
+    # what accelerate's save_state writes under FSDP (FULL_STATE_DICT)
+    torch.save(weights, fsdp / FSDP_WEIGHTS)
     _, model, _, _ = load_checkpoint(fsdp)
     assert all(torch.equal(model.state_dict()[k], v) for k, v in weights.items())
 

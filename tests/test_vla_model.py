@@ -96,9 +96,8 @@ def test_cognition_token_reads_the_prefix_and_leaves_it_unchanged(backbone):
         other[0, 2] = torch.rand(3, 32, 32)
         moved = model(other, enc.input_ids, enc.attention_mask)
     hook.remove()
-    assert (
-        states[0].shape[1] == 3 * 16 + enc.input_ids.shape[1] + 1
-    )  # K cameras x 16 patches, prompt, cognition
+    # K cameras x 16 patches, prompt, cognition
+    assert states[0].shape[1] == 3 * 16 + enc.input_ids.shape[1] + 1
     assert torch.equal(states[0][:, :-1], states[1][:, :-1])  # the prefix never sees the cognition token
     assert not torch.allclose(states[0][:, -1], states[1][:, -1])
     assert torch.allclose(first[0], alone[0], atol=1e-5)  # left padding does not change the feature

@@ -1,4 +1,5 @@
-"""MobileManiVLA on a generated LeRobot dataset: batches, experiment configs, checkpoints, resume, inference."""
+"""MobileManiVLA on a generated LeRobot dataset: batches, experiment configs, checkpoints,
+resume, inference."""
 
 import json
 from pathlib import Path
@@ -66,7 +67,8 @@ def test_forward_backward_on_a_dataset_batch(dataset_root, tmp_path):
     loss = model(batch)
     assert torch.isfinite(loss)
     torch.nn.init.normal_(model.head.dit.out.weight, std=0.02)  # zero-initialised: no gradient flows back yet
-    model.backbone.vlm.gradient_checkpointing_enable()  # the paper config's memory saver keeps gradients flowing
+    # the paper config's memory saver keeps gradients flowing
+    model.backbone.vlm.gradient_checkpointing_enable()
     model(batch).backward()
     for part in (
         model.backbone.vlm.vision_tower,

@@ -1,7 +1,8 @@
 """Contact classes as (contype, conaffinity) bit pairs.
 
 The robot never collides with itself (as the reference G1; cheaper, and the hand cannot self-intersect in the
-tasks), robot geoms touch world geoms, and world geoms (objects, stage, ground) touch the robot and each other.
+tasks), robot geoms touch world geoms, and world geoms
+(objects, stage, ground) touch the robot and each other.
 """
 
 ROBOT_BIT = 1

@@ -1,4 +1,5 @@
-"""Where the object stands in every scene: the support stage, the object's name prefix, the episode-start pose.
+"""Where the object stands in every scene: the support stage, the object's name prefix,
+the episode-start pose.
 
 One place below both the scene decoration (`assets.scenes`, which keeps rooms clear of the object) and the env
 (`envs.scene`, `envs.resets`, which build and reset it), so the two cannot drift apart. Values a run may

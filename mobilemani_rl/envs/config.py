@@ -17,11 +17,11 @@ class PhysicsCfg:
 
     MuJoCo takes `substeps` steps per control step (timestep = 1 / (control_hz * substeps)). 3 substeps
     (11.1 ms) is the largest setting at which the scripted grasps stay stable, measured with
-    python -m scripts.physics_stability (16 envs per task): at 3 substeps g1 opens the box in 100 % of episodes with at
-    most 6.7 mm contact penetration and picks the can in 88 % (24 mm); at 2 substeps (16.7 ms, the reference's
-    rate) penetration grows to 9.1 / 29.8 mm and the pick drops to 75 % as the light can slips out. No setting
-    produced NaNs or simulation errors. MuJoCo clamps contact time constants to twice the timestep, so larger
-    steps mean softer contacts.
+    python -m scripts.physics_stability (16 envs per task): at 3 substeps g1 opens the box in 100 % of
+    episodes with at most 6.7 mm contact penetration and picks the can in 88 % (24 mm); at 2 substeps
+    (16.7 ms, the reference's rate) penetration grows to 9.1 / 29.8 mm and the pick drops to 75 % as the light
+    can slips out. No setting produced NaNs or simulation errors. MuJoCo clamps contact time constants to
+    twice the timestep, so larger steps mean softer contacts.
     """
 
     control_hz: float = 30.0
@@ -59,7 +59,8 @@ class ResetCfg:
     stage_shift: float = 0.1  # stage front face moved toward the robot by U(0, 0.1) m
     pick_yaw_deg: float = 90.0  # rigid objects spawn with yaw U(-90°, 90°)
     pick_y_offset: float = 0.1
-    # Data recording (docs/reference.md §8b): no stage shift and no random height (windows keep theirs); room jitter on.
+    # Data recording (docs/reference.md §8b): no stage shift and no random height
+    # (windows keep theirs); room jitter on.
     recording: bool = False
     room_jitter_x: list[float] = field(default_factory=lambda: [-0.1, 0.1])
     room_jitter_y: list[float] = field(default_factory=lambda: [-0.05, 0.05])

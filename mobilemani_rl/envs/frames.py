@@ -70,7 +70,8 @@ class Frames(EnvRows):
 
 
 def _gather(field: np.ndarray, ids: np.ndarray | None, cols: np.ndarray | int) -> np.ndarray:
-    """A copy of field[ids, cols] (all envs when ids is None: the per-step path, where np.take is cheapest)."""
+    """A copy of field[ids, cols] (all envs when ids is None: the per-step path, where np.take is
+    cheapest)."""
     return np.take(field if ids is None else field[ids], cols, axis=1)
 
 

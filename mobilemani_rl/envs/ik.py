@@ -11,9 +11,9 @@ def wrist_pose_error(actions: np.ndarray, pos_scale: float, rot_scale: float) ->
     """World-frame pose error (position; rotation vector) of the commanded wrist delta, (n, 6).
 
     The goal is hand_pos + a[0:3]·pos_scale and quat(euler(a[3:6]·rot_scale)) ⊗ hand_quat (a left-multiplied,
-    world-frame rotation, docs/reference.md §3), so its error from the current hand pose is the delta itself. The
-    reference expresses this error in the root frame but leaves the Jacobian in the world frame; both are in
-    the world frame here (DESIGN: reproduce behaviour, not the frame quirk).
+    world-frame rotation, docs/reference.md §3), so its error from the current hand pose is the delta itself.
+    The reference expresses this error in the root frame but leaves the Jacobian in the world frame; both are
+    in the world frame here (DESIGN: reproduce behaviour, not the frame quirk).
     """
     rotation = quat_from_euler(actions[:, 3:6] * rot_scale)
     return np.concatenate((actions[:, 0:3] * pos_scale, axis_angle_from_quat(rotation)), axis=1)
@@ -25,8 +25,8 @@ def chain_jacobian(
     """Geometric Jacobian (n, 6, k) of a world point moved by a serial chain of 1-DoF joints.
 
     anchors/axes: (n, k, 3) world joint anchors and unit axes (MuJoCo's xanchor/xaxis). Hinge column:
-    [a × (p − anchor); a]; slide column: [a; 0]. Equal to mj_jac restricted to these dofs when the point's body
-    is downstream of all of them, and cheaper than a per-sim mj_jac call.
+    [a × (p − anchor); a]; slide column: [a; 0]. Equal to mj_jac restricted to these dofs when the point's
+    body is downstream of all of them, and cheaper than a per-sim mj_jac call.
     """
     linear = np.where(is_hinge[:, None], cross(axes, point[:, None, :] - anchors), axes)
     angular = axes * is_hinge[:, None]

@@ -1,7 +1,7 @@
 """The batched MobileManiRL environment: N MuJoCo simulations in one `mujoco.batch.Batch`.
 
-Step order follows the reference DirectRLEnv (docs/reference.md §1): action → IK → physics substeps → counters → dones →
-rewards → resets → observations. Everything above physics is vectorised numpy over envs.
+Step order follows the reference DirectRLEnv (docs/reference.md §1): action → IK → physics substeps → counters
+→ dones → rewards → resets → observations. Everything above physics is vectorised numpy over envs.
 """
 
 from __future__ import annotations
@@ -49,9 +49,8 @@ class MobileManiEnv:
     """Batched env for one (robot, object, skill) task."""
 
     def __init__(self, cfg: EnvCfg) -> None:
-        check_positive(
-            {"num_envs": cfg.num_envs}
-        )  # MuJoCo's own message ("nsim must be positive") names no key
+        # MuJoCo's own message ("nsim must be positive") names no key
+        check_positive({"num_envs": cfg.num_envs})
         self.cfg = cfg
         self.robot = get_robot(cfg.task.robot)
         self.object = get_object(cfg.task.object)

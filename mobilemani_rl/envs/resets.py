@@ -1,4 +1,5 @@
-"""Sampling of episode starts (docs/reference.md §2c, §6d–g): robot pose, object placement, stage, joint, goal."""
+"""Sampling of episode starts (docs/reference.md §2c, §6d–g): robot pose, object placement,
+stage, joint, goal."""
 
 from __future__ import annotations
 
@@ -42,8 +43,8 @@ def sample_episode_start(
     placement: Placement | None = None,
 ) -> EpisodeStart:
     kin, params = obj.kinematics, obj.params
-    # Recording and realistic rooms (the object stands on the placement's visible table) zero the random height,
-    # except for windows, and the stage shift (docs/reference.md §8b).
+    # Recording and realistic rooms (the object stands on the placement's visible table) zero the random
+    # height, except for windows, and the stage shift (docs/reference.md §8b).
     plain = placement is None and not cfg.recording
     random_height = params.random_height and (plain or obj.category == "window")
     lift = rng.uniform(0.0, cfg.random_height, n) if random_height else np.zeros(n)
@@ -67,7 +68,8 @@ def sample_episode_start(
         (rng.uniform(*cfg.root_x_range, n), rng.uniform(*cfg.root_y_range, n)), axis=1
     )
     if skill == "close" and obj.kind is ObjectKind.ARTICULATED:
-        # Back out of the door's sweep when opening moves the handle toward the robot (docs/reference.md §2c.5).
+        # Back out of the door's sweep when opening moves the handle toward the robot
+        # (docs/reference.md §2c.5).
         sweep = kin.handle_opened[:2] - kin.handle_closed[:2]
         if sweep[1] < 0:
             root_xy = root_xy + sweep

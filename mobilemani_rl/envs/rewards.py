@@ -1,4 +1,5 @@
-"""Reward terms, grasp flag and success (docs/reference.md §5). Every term is returned separately for logging."""
+"""Reward terms, grasp flag and success (docs/reference.md §5). Every term is returned separately for
+logging."""
 
 from __future__ import annotations
 
@@ -21,7 +22,8 @@ GRASP_DIRECTION = np.array([0.0, 1.0, 0.0])  # articulated and YCB tasks alike (
 
 @dataclass
 class TaskDistances(EnvRows):
-    """Point distances to the single grasp point (docs/reference.md §4/§5); shared by rewards and observations."""
+    """Point distances to the single grasp point (docs/reference.md §4/§5);
+    shared by rewards and observations."""
 
     hand: np.ndarray  # (n,) d_h: palm point to grasp point
     finger: np.ndarray  # (n, F) each finger point; the thumb (or outer finger) last

@@ -15,7 +15,8 @@ from mobilemani_rl.envs.mobilemani_env import MobileManiEnv
 
 
 class RslRlVecEnv(VecEnv):
-    """rsl-rl view: observations under group "policy" (policy = critic, docs/reference.md §4); `time_outs` bootstraps."""
+    """rsl-rl view: observations under group "policy" (policy = critic, docs/reference.md §4);
+    `time_outs` bootstraps."""
 
     def __init__(self, env: MobileManiEnv, device: str = "cpu") -> None:
         self.env = env
@@ -34,8 +35,9 @@ class RslRlVecEnv(VecEnv):
     @episode_length_buf.setter
     def episode_length_buf(self, value: torch.Tensor) -> None:
         # rsl-rl randomises episode lengths at start (init_at_random_ep_len); the time encoding is unaffected.
-        # Assigned, not written into: a MultiObjectEnv's buffer is a property concatenating its parts (a copy), and
-        # a lost write left all its episodes in step, so whole PPO iterations ended none (success/reward NaN).
+        # Assigned, not written into: a MultiObjectEnv's buffer is a property concatenating its parts
+        # (a copy), and a lost write left all its episodes in step, so whole PPO iterations ended none
+        # (success/reward NaN).
         self.env.episode_length_buf = value.cpu().numpy().astype(np.int64)
 
     def _observations(self, obs: np.ndarray) -> TensorDict:

@@ -7,7 +7,8 @@ from dataclasses import dataclass, field
 
 @dataclass
 class WarmStartCfg:
-    """Behaviour cloning of the scripted policy before PPO (mobilemani_rl.rl.warm_start); off in the reference."""
+    """Behaviour cloning of the scripted policy before PPO (mobilemani_rl.rl.warm_start);
+    off in the reference."""
 
     episodes: int = (
         0  # scripted episodes per object (rounded up to whole batches); 0: from scratch (reference)

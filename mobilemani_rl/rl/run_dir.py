@@ -42,9 +42,9 @@ def is_complete(run_dir: Path) -> bool:
 
 
 def save_or_check_config(run_dir: Path, cfg: DictConfig, keys: tuple[str, ...]) -> None:
-    """Store the (resolved) config of a new run; for an existing run, require the same values under `keys`. A run
-    that stopped before its first checkpoint (or its finished warm start) has nothing to resume, so its config is
-    simply replaced."""
+    """Store the (resolved) config of a new run; for an existing run, require the same values under `keys`. A
+    run that stopped before its first checkpoint (or its finished warm start) has nothing to resume, so its
+    config is simply replaced."""
     path = run_dir / CONFIG
     current = OmegaConf.create(OmegaConf.to_container(cfg, resolve=True))
     if not path.exists() or (

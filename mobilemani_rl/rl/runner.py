@@ -1,4 +1,5 @@
-"""rsl-rl's OnPolicyRunner with atomic checkpoints and a one-line progress bar instead of the console block."""
+"""rsl-rl's OnPolicyRunner with atomic checkpoints and a one-line progress bar instead of the console
+block."""
 
 from __future__ import annotations
 
@@ -95,14 +96,15 @@ class MobileManiRunner(OnPolicyRunner):
         return loaded["infos"]
 
     def resume_curve(self, start: int) -> None:
-        """Continue the saved curve of a run resumed at iteration `start` (its rows from before the checkpoint)."""
+        """Continue the saved curve of a run resumed at iteration `start`
+        (its rows from before the checkpoint)."""
         if self.curve_path is not None and self.curve_path.is_file():
             rows = json.loads(self.curve_path.read_text())
             self.logger.curve = [row for row in rows if row["iteration"] < start]
 
     def save(self, path: str, infos: dict | None = None) -> None:
-        """Write to a temporary file, then rename: a killed run never leaves a truncated checkpoint. The curve up to
-        the checkpoint is saved with it, so a run resumed after a kill keeps its whole curve."""
+        """Write to a temporary file, then rename: a killed run never leaves a truncated checkpoint. The curve
+        up to the checkpoint is saved with it, so a run resumed after a kill keeps its whole curve."""
         tmp = f"{path}.tmp"
         super().save(tmp, infos)
         os.replace(tmp, path)

@@ -1,11 +1,12 @@
 """The evaluation policy interface.
 
-An observation is a dict keyed by the dataset's feature names (mobilemani_data.schema), each value batched over
-the envs of one evaluation batch: images (n, H, W, 3) uint8, states (n, d) float32, plus `TASK` (n instructions),
-`PRIVILEGED_STATE` (the RL observation, for teachers) and `ACTIVE` (n,) bool, the envs whose first episode still
-runs. A policy names the keys it reads in `inputs`, so that the evaluator renders only the cameras it needs, and
-returns chunks (n, N, action_dim) in `action_frame` ("world": the env's normalised action; "base": the dataset's
-base-frame action). Rows of inactive envs are ignored; model policies may skip computing them.
+An observation is a dict keyed by the dataset's feature names (mobilemani_data.schema), each value batched
+over the envs of one evaluation batch: images (n, H, W, 3) uint8, states (n, d) float32, plus `TASK`
+(n instructions), `PRIVILEGED_STATE` (the RL observation, for teachers) and `ACTIVE` (n,) bool, the envs whose
+first episode still runs. A policy names the keys it reads in `inputs`, so that the evaluator renders only the
+cameras it needs, and returns chunks (n, N, action_dim) in `action_frame` ("world": the env's normalised
+action; "base": the dataset's base-frame action). Rows of inactive envs are ignored;
+model policies may skip computing them.
 """
 
 from __future__ import annotations
@@ -34,7 +35,8 @@ class EvalPolicy:
     action_dim: int | None = None  # width of the actions it predicts, if fixed (a trained checkpoint's)
 
     def start(self, env: MobileManiEnv, seed: int) -> None:
-        """A new batch of episodes starts in `env` (already reset with `seed`); privileged policies bind to it."""
+        """A new batch of episodes starts in `env` (already reset with `seed`);
+        privileged policies bind to it."""
 
     def act(self, obs: Observation) -> np.ndarray:
         raise NotImplementedError

@@ -1,12 +1,13 @@
-"""A LeRobot policy (ACT, pi0, SmolVLA, ... trained with `lerobot-train` on our dataset) as an evaluation policy.
+"""A LeRobot policy (ACT, pi0, SmolVLA, ... trained with `lerobot-train` on our dataset) as an evaluation
+policy.
 
 Loaded from a local `pretrained_model` directory with LeRobot's own API (config, weights, pre/post-processor
 pipelines), so normalisation is exactly the one it was trained with. Its input features are our dataset's
 feature names (optionally renamed, as with `lerobot-train --rename_map`); images are resized to the feature's
-shape. It predicts the dataset's `action` (base frame), one chunk per call (`predict_action_chunk`); the harness
-executes the chunks through the adaptive ensemble (default) or takes one fixed element of the newest
-(`ensemble.action_index=0`). Policies that stack several observation steps (diffusion with n_obs_steps > 1) need
-an observation history and are not supported.
+shape. It predicts the dataset's `action` (base frame), one chunk per call (`predict_action_chunk`); the
+harness executes the chunks through the adaptive ensemble (default) or takes one fixed element of the newest
+(`ensemble.action_index=0`). Policies that stack several observation steps (diffusion with n_obs_steps > 1)
+need an observation history and are not supported.
 """
 
 from __future__ import annotations
@@ -78,8 +79,9 @@ class LeRobotEvalPolicy(EvalPolicy):
                     value = F.interpolate(
                         value, size=shape[-2:], mode="bilinear", antialias=True, align_corners=False
                     )
-            # Policies trained on observation windows (Diffusion Policy: observation_delta_indices) get a time axis
-            # of length 1, as LeRobot's loader gave them in training; the others (ACT) take single frames.
+            # Policies trained on observation windows (Diffusion Policy: observation_delta_indices) get a time
+            # axis of length 1, as LeRobot's loader gave them in training;
+            # the others (ACT) take single frames.
             batch[theirs] = value.float().unsqueeze(1) if self.windowed else value.float()
         return batch
 

@@ -1,4 +1,5 @@
-"""Reference policies with privileged access to the simulator: the scripted policy, PPO teachers, random actions.
+"""Reference policies with privileged access to the simulator: the scripted policy,
+PPO teachers, random actions.
 
 They act in the world frame with chunks of one action, so the ensemble reduces to executing that action.
 """

@@ -1,4 +1,5 @@
-"""MobileManiVLA as an evaluation policy: its cameras and base-frame states in, base-frame action chunks out."""
+"""MobileManiVLA as an evaluation policy: its cameras and base-frame states in,
+base-frame action chunks out."""
 
 from __future__ import annotations
 
@@ -28,7 +29,8 @@ class VLAEvalPolicy(EvalPolicy):
         )
 
     def start(self, env: MobileManiEnv, seed: int) -> None:
-        # Diffusion noise, reproducible per batch; on the model's device so CUDA sampling needs no host copies.
+        # Diffusion noise, reproducible per batch;
+        # on the model's device so CUDA sampling needs no host copies.
         self.generator = torch.Generator(self.policy.device).manual_seed(seed)
 
     def act(self, obs: Observation) -> np.ndarray:

@@ -31,7 +31,8 @@ ALL_SKILLS = ("open", "close", "pull", "push", "pick")
 
 @dataclass(frozen=True)
 class CategoryParams:
-    """docs/reference.md §6f row. Scale multiplies the generated geometry; mass is the operated link's mass."""
+    """docs/reference.md §6f row. Scale multiplies the generated geometry;
+    mass is the operated link's mass."""
 
     scale: float
     mass: float

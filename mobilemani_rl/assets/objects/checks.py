@@ -69,7 +69,8 @@ def _penetrations(
 
 
 def sweep(obj: ObjectModel, skill: str, steps: int = 30) -> SweepResult:
-    """Kinematic sweep from the start of `skill` (open: init value; close: the widest close start) to its goal."""
+    """Kinematic sweep from the start of `skill` (open: init value; close: the widest close start) to its
+    goal."""
     kin = obj.kinematics
     model = stage_model(obj)
     data = mujoco.MjData(model)

@@ -31,10 +31,10 @@ class ObjectModel:
     """One procedural object.
 
     `build_spec` returns an MjSpec whose worldbody holds a single root body named `object` in the object's own
-    frame (front, where the robot stands, toward -y; bottom at z = 0 after placement). Articulated objects have a
-    fixed root (made a mocap body by the scene) and one operated joint `joint`; carts and rigid objects get a free
-    joint from the scene. A site named `grasp` on `grasp_body` marks the grasp point (handle, lid edge, cart
-    handle, or a rigid object's centre of mass).
+    frame (front, where the robot stands, toward -y; bottom at z = 0 after placement). Articulated objects
+    have a fixed root (made a mocap body by the scene) and one operated joint `joint`; carts and rigid objects
+    get a free joint from the scene. A site named `grasp` on `grasp_body` marks the grasp point
+    (handle, lid edge, cart handle, or a rigid object's centre of mass).
     """
 
     object_id: str

@@ -41,8 +41,8 @@ def add_geom(
     if friction is not None:
         geom.friction = list(friction)
     if collide:
-        # Near-hard contacts: with the default impedance (0.9) a light held object (10 g) sinks centimetres into
-        # the fingers, since MuJoCo's soft-contact penetration scales with the inverse effective mass.
+        # Near-hard contacts: with the default impedance (0.9) a light held object (10 g) sinks centimetres
+        # into the fingers, since MuJoCo's soft-contact penetration scales with the inverse effective mass.
         # A large solmix makes these parameters win over the object's when MuJoCo mixes the pair's.
         geom.solimp = list(FINGER_SOLIMP)
         geom.solmix = 100.0

@@ -1,8 +1,9 @@
-"""XHand-like robot: the same mobile base and torso, an RM75-like 7-DoF right arm and a 12-DoF five-finger hand.
+"""XHand-like robot: the same mobile base and torso,
+an RM75-like 7-DoF right arm and a 12-DoF five-finger hand.
 
-Hand frame (`xhand_right_base_link`, origin at the wrist on the back of the hand), as the reference XHand: +z is
-the palm normal (the palm direction of the reference, and the approach direction), the fingers extend along -x
-from the knuckles and spread along y, the index on the +y side. Fingers curl toward +z, so that closed
+Hand frame (`xhand_right_base_link`, origin at the wrist on the back of the hand), as the reference XHand: +z
+is the palm normal (the palm direction of the reference, and the approach direction), the fingers extend along
+-x from the knuckles and spread along y, the index on the +y side. Fingers curl toward +z, so that closed
 fingertips wrap over a bar held at the palm point (-0.04, 0, 0.06), 3 cm in front of the palm face. The thumb
 sits beside the index: thumb_bend swings it in the palm plane from along the fingers (0) to sideways (+y, the
 default), and its two rota joints raise it out of the palm and curl it over the palm point from the +y side.
@@ -63,8 +64,8 @@ HAND_LIMITS = {
     "thumb_rota_joint2": (-0.175, 1.83),
 }
 HAND_JOINTS = tuple(P + name for name in HAND_LIMITS)  # reference action order
-# A caging grasp of a bar at the palm point: the four fingers curl over its far side, the thumb stands up beside
-# the wrist and its distal phalanx crosses over the palm.
+# A caging grasp of a bar at the palm point: the four fingers curl over its far side, the thumb stands up
+# beside the wrist and its distal phalanx crosses over the palm.
 HAND_GRASP = {
     "thumb_bend": 1.5,
     "thumb_rota_joint1": 1.5,
@@ -107,9 +108,9 @@ FINGER_Y = {"pinky": -0.033, "ring": -0.011, "mid": 0.011, "index": 0.033}
 THUMB_BASE = (-0.008, 0.05, 0.02)
 THUMB_PHALANX = (0.045, 0.035)
 CURL_AXIS = (0, 1, 0)  # positive flexion turns a digit pointing along -x toward +z (out of the palm)
-# Hand link in the flange adapter (whose +z continues the forearm): fingers (-x) along the forearm, palm normal
-# (+z) along the adapter's +x, so that the wrist pitch turns the palm forward; the adapter axis runs through the
-# middle of the palm's thickness.
+# Hand link in the flange adapter (whose +z continues the forearm): fingers (-x) along the forearm, palm
+# normal (+z) along the adapter's +x, so that the wrist pitch turns the palm forward; the adapter axis runs
+# through the middle of the palm's thickness.
 HAND_QUAT = (math.sqrt(0.5), 0.0, math.sqrt(0.5), 0.0)
 TIP_SITES = tuple(f"{P}{f}_tip" for f in ("pinky", "ring", "mid", "index", "thumb"))
 

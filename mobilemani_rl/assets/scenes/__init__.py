@@ -1,7 +1,8 @@
 """Scene placements: 5 settings x 20 procedural rooms / lots (16 train + 4 test), decorating the env's scene.
 
-Wiring: `add_scene(build_scene_spec(robot, obj, physics), get_placement("tabletop/07"), obj, reset.pick_y_offset)`,
-then put the stage top at `placement.support_height` in tabletop scenes and jitter the `ROOM_BODY` mocap per reset.
+Wiring: `add_scene(build_scene_spec(robot, obj, physics), get_placement("tabletop/07"), obj,
+reset.pick_y_offset)`, then put the stage top at `placement.support_height` in tabletop scenes and jitter the
+`ROOM_BODY` mocap per reset.
 """
 
 from mobilemani_rl.assets.scenes.compose import (

@@ -1,4 +1,5 @@
-"""Visual-only primitives on a scene body: rooms never collide (contype = conaffinity = 0, docs/reference.md §8b)."""
+"""Visual-only primitives on a scene body: rooms never collide (contype = conaffinity = 0,
+docs/reference.md §8b)."""
 
 from __future__ import annotations
 

@@ -1,7 +1,7 @@
 """The 100 scene placements: 5 settings x (16 train + 4 test), deterministic from (setting, index).
 
-Scene ids are `<setting>/<index:02d>`; indices 00–15 are train, 16–19 test (docs/reference.md §8b: each place type has
-16 train + 4 test room entries; `room_id` indexes within the split).
+Scene ids are `<setting>/<index:02d>`; indices 00–15 are train, 16–19 test (docs/reference.md §8b: each place
+type has 16 train + 4 test room entries; `room_id` indexes within the split).
 """
 
 from __future__ import annotations

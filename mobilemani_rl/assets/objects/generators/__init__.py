@@ -1,4 +1,5 @@
-"""One generator per category: (numpy Generator) -> Design. Sampling is cheap; `Design.build` makes the spec."""
+"""One generator per category: (numpy Generator) -> Design. Sampling is cheap;
+`Design.build` makes the spec."""
 
 from collections.abc import Callable
 

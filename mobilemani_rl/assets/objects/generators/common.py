@@ -1,8 +1,8 @@
 """Building blocks shared by the category generators: colours, sampled dimensions, carcasses, handles, links.
 
-All generators build in metres at the category's scale (docs/reference.md §6f scale already applied), in the object
-frame: front (where the robot stands) toward -y, bottom at z = 0. Moving parts keep a few millimetres of
-clearance from the fixed parts so that sweeping a joint never makes the object touch itself.
+All generators build in metres at the category's scale (docs/reference.md §6f scale already applied), in the
+object frame: front (where the robot stands) toward -y, bottom at z = 0. Moving parts keep a few millimetres
+of clearance from the fixed parts so that sweeping a joint never makes the object touch itself.
 """
 
 from __future__ import annotations
@@ -142,7 +142,8 @@ def add_bar_handle(
 
 
 def add_knob(link: mujoco.MjsBody, center: Vec, radius: float, standoff: float, rgba: Rgba) -> None:
-    """A round knob (sphere on a stem) whose centre, the grasp point, is `standoff` in front of the surface."""
+    """A round knob (sphere on a stem) whose centre, the grasp point,
+    is `standoff` in front of the surface."""
     cx, cy, cz = center
     add_part(link, SPHERE, (radius,), rgba, pos=center)
     add_part(link, CYLINDER, (0.35 * radius,), rgba, fromto=(cx, cy, cz, cx, cy + standoff, cz))
@@ -266,7 +267,8 @@ def add_lid(
 ) -> mujoco.MjsBody:
     """A lid hinged along x at its back edge (y = hinge_y), lying toward -y, opening upward.
 
-    Link frame on the hinge axis at the lid's bottom face; the lid occupies y in [-depth, 0], z in [0, thickness].
+    Link frame on the hinge axis at the lid's bottom face; the lid occupies y in [-depth, 0],
+    z in [0, thickness].
     """
     link = add_moving_link(
         parent,
@@ -294,9 +296,9 @@ def add_drawer(
     rgba: Rgba,
     body_rgba: Rgba,
 ) -> mujoco.MjsBody:
-    """A drawer sliding out toward -y from an opening (width, height) centred at (x, z) in a carcass whose front
-    face is at y = front_y. The overlay front panel (front_size: width, height, thickness) sits in front of
-    the face; the box behind it clears the opening by GAP on every side.
+    """A drawer sliding out toward -y from an opening (width, height) centred at (x, z) in a carcass whose
+    front face is at y = front_y. The overlay front panel (front_size: width, height, thickness) sits in front
+    of the face; the box behind it clears the opening by GAP on every side.
 
     Link frame at the back face of the front panel, opening centre; the joint's positive direction pulls out.
     """

@@ -1,7 +1,7 @@
 """Objects opened by lifting a lid hinged along its back edge: box, laptop, toilet, trashcan.
 
-The grasp point is the lid's free (front) edge, as the reference refines it (docs/reference.md §6c): a protruding tab or lip the
-fingers close on from above and below, or a bar handle in front of the edge.
+The grasp point is the lid's free (front) edge, as the reference refines it (docs/reference.md §6c): a
+protruding tab or lip the fingers close on from above and below, or a bar handle in front of the edge.
 """
 
 from __future__ import annotations
@@ -85,7 +85,8 @@ def box(rng: np.random.Generator) -> Design:
 
 
 def laptop(rng: np.random.Generator) -> Design:
-    """Clamshell laptop: base with keyboard; the screen lid overhangs the base front a little (the grip lip)."""
+    """Clamshell laptop: base with keyboard; the screen lid overhangs the base front a little
+    (the grip lip)."""
     w, d, t = uniform(rng, 0.28, 0.38), uniform(rng, 0.19, 0.26), uniform(rng, 0.015, 0.025)
     screen_t, lip = uniform(rng, 0.006, 0.01), uniform(rng, 0.03, 0.04)
     shell_rgba = colour(rng, choice(rng, ("metal", "plastic")))
