@@ -33,6 +33,7 @@ test-slow: setup
 
 lint: setup
 	$(VENV)/bin/ruff check .
+	$(VENV)/bin/ruff format --check .
 
 # Every benchmark in one JSON (results/bench.json) and one table against the raw MuJoCo limits.
 bench: setup
