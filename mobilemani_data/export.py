@@ -4,6 +4,8 @@
 
 The dataset is written next to its final place and renamed when finalized, so an interrupted export never
 looks complete. A shard that cannot be read is reported by name and left out; the others are exported.
+A rerun on the same shards with the same settings (recorded in the export report) renders nothing;
+`export.overwrite=true` replaces a dataset exported from other shards or settings.
 Episode metadata (robot, object, category, skill, scene, split, ...) goes to `schema.EPISODES_FILE`.
 """
 
@@ -41,6 +43,7 @@ class ExportReport:
     skipped: list[str] = field(default_factory=list)  # one message per shard left out
     render_s: float = 0.0
     total_s: float = 0.0
+    reused: bool = False  # the dataset was already up to date: nothing was rendered
 
 
 def check_streams(cfg: ExportCfg) -> None:
@@ -138,16 +141,39 @@ def add_shard(
     return lines
 
 
+def export_source(cfg: ExportCfg, raw_dir: Path, paths: list[Path]) -> dict:
+    """What a dataset is exported from: the settings that shape its files, every shard's size and mtime."""
+    settings = {
+        k: getattr(cfg, k)
+        for k in ("repo_id", "width", "height", "vcodec", "crf", "gop", "preset", "action_convention")
+    }
+    shards = {str(p.relative_to(raw_dir)): [p.stat().st_size, p.stat().st_mtime_ns] for p in paths}
+    return {**settings, "cameras": list(cfg.cameras), "modalities": list(cfg.modalities), "shards": shards}
+
+
+def up_to_date(root: Path, source: dict) -> bool:
+    report = root / schema.EXPORT_REPORT_FILE
+    return report.is_file() and json.loads(report.read_text()).get("source") == source
+
+
 def export(cfg: DataCfg) -> ExportReport:
     robot = get_robot(cfg.robot)
     raw_dir, root = Path(cfg.raw_dir), Path(cfg.dataset_dir)
     check_streams(cfg.export)
-    if root.exists() and not cfg.export.overwrite:
-        raise FileExistsError(f"{root} exists; pass export.overwrite=true to replace it")
     paths = shard_paths(raw_dir, robot.name)
     if not paths:
         raise FileNotFoundError(
             f"no shards under {raw_dir / robot.name} (run python -m mobilemani_data.collect)"
+        )
+    source = export_source(cfg.export, raw_dir, paths)
+    if up_to_date(root, source):  # a rerun (make data, make demo) does not render the same dataset again
+        print(f"{root} is up to date with {len(paths)} shards and these export settings; skipped", flush=True)
+        report = json.loads((root / schema.EXPORT_REPORT_FILE).read_text())
+        return ExportReport(root, report["episodes"], report["frames"], report["skipped"], reused=True)
+    if root.exists() and not cfg.export.overwrite:
+        raise FileExistsError(
+            f"{root} exists and was exported from other shards or settings; "
+            "pass export.overwrite=true to replace it"
         )
     tmp = root.with_name(root.name + PARTIAL)
     shutil.rmtree(tmp, ignore_errors=True)
@@ -182,6 +208,7 @@ def export(cfg: DataCfg) -> ExportReport:
                 "cameras": list(cfg.export.cameras),
                 "modalities": list(cfg.export.modalities),
                 "action_convention": cfg.export.action_convention,
+                "source": source,
             },
             indent=2,
         )
@@ -195,9 +222,14 @@ def export(cfg: DataCfg) -> ExportReport:
 @hydra.main(config_path="../conf", config_name="data", version_base="1.3")
 def main(cfg: DictConfig) -> None:
     report = export(data_cfg_from_hydra(cfg))
+    timing = (
+        ""
+        if report.reused
+        else (f" in {report.total_s:.1f} s ({report.frames / max(report.total_s, 1e-9):.1f} frames/s)")
+    )
     print(
-        f"{report.root}: {report.episodes} episodes, {report.frames} frames in {report.total_s:.1f} s "
-        f"({report.frames / max(report.total_s, 1e-9):.1f} frames/s); {len(report.skipped)} shards skipped"
+        f"{report.root}: {report.episodes} episodes, {report.frames} frames{timing}; "
+        f"{len(report.skipped)} shards skipped"
     )
     if report.skipped:
         sys.exit(1)

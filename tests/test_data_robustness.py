@@ -1,11 +1,13 @@
 """Interrupted collection resumes without duplicates; corrupt shards are named and left out of the export."""
 
+import os
 import shutil
 import subprocess
 import sys
 import time
 from pathlib import Path
 
+import pytest
 from data_helpers import tiny_cfg
 
 from mobilemani_data.collect import collect
@@ -75,3 +77,18 @@ def test_corrupt_shard_is_named_and_the_rest_exports(tmp_path, capsys):
     assert read_export_report(Path(cfg.dataset_dir))["skipped"] == report.skipped
     assert not Path(cfg.dataset_dir + ".partial").exists()
     shutil.rmtree(cfg.dataset_dir)
+
+
+def test_a_rerun_reuses_an_up_to_date_export_and_a_changed_shard_needs_overwrite(tmp_path):
+    cfg = tiny_cfg(tmp_path, "subset.objects=[dishwasher/0000]", "subset.skills=[open]", "subset.episodes=1")
+    collect(cfg)
+    first = export(cfg)
+    assert not first.reused and first.episodes == 2
+    again = export(cfg)
+    assert again.reused and (again.episodes, again.frames) == (first.episodes, first.frames)
+    shard = shard_paths(tmp_path / "raw", "g1")[0]
+    os.utime(shard, ns=(shard.stat().st_atime_ns, shard.stat().st_mtime_ns + 1))  # as a re-collected shard
+    with pytest.raises(FileExistsError, match="export.overwrite=true"):
+        export(cfg)
+    cfg.export.overwrite = True
+    assert not export(cfg).reused and validate(cfg) == []
