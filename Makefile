@@ -137,7 +137,7 @@ LEROBOT_FLAGS_act = --policy.pretrained_backbone_weights=null --policy.chunk_siz
 LEROBOT_FLAGS_diffusion = --policy.pretrained_backbone_weights=null --policy.n_obs_steps=1 --policy.horizon=16 \
 	--policy.n_action_steps=8 --policy.crop_shape=null --policy.down_dims=[128,256,512] --policy.num_inference_steps=10
 LEROBOT_LAST = $(LEROBOT_OUT)/checkpoints/last
-LEROBOT_TRAIN = HF_HUB_OFFLINE=1 $(VENV)/bin/lerobot-train
+LEROBOT_TRAIN = HF_HUB_OFFLINE=1 $(PY) -m mobilemani_vla.lerobot_train
 # A finished run is skipped; an interrupted one resumes from its last checkpoint (saved every quarter of the steps);
 # one interrupted before its first checkpoint has nothing to resume and starts again.
 .PHONY: lerobot
