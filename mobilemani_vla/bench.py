@@ -121,14 +121,8 @@ def bench_dataset(root: str, name: str, batch: int, steps: int) -> list[dict]:
         data = open_data(cfg, cfg.model.vision.image_size, progress=False)
         tokenizer = build_word_tokenizer(data.tasks)
         model = build_model(cfg, tokenizer)
-        processor = VLAProcessor(
-            tokenizer,
-            fit_normalizer(data.table, data.table.rows(data.train_episodes), cfg.inputs.states),
-            cfg.inputs.cameras,
-            cfg.inputs.states,
-            model.backbone.image_size,
-            cfg.model.prompt,
-        )
+        normalizer = fit_normalizer(data.table, data.table.rows(data.train_episodes), cfg.inputs.states)
+        processor = VLAProcessor.for_config(cfg, tokenizer, normalizer, model.backbone.image_size)
         loader = iter(
             torch.utils.data.DataLoader(data.train, batch_size=batch, shuffle=True, collate_fn=processor)
         )

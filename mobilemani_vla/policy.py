@@ -27,14 +27,7 @@ class VLAPolicy:
     @classmethod
     def load(cls, checkpoint: str | Path, device: str | torch.device = "cpu") -> VLAPolicy:
         cfg, model, normalizer, tokenizer = load_checkpoint(checkpoint, device)
-        processor = VLAProcessor(
-            tokenizer,
-            normalizer,
-            cfg.inputs.cameras,
-            cfg.inputs.states,
-            model.backbone.image_size,
-            cfg.model.prompt,
-        )
+        processor = VLAProcessor.for_config(cfg, tokenizer, normalizer, model.backbone.image_size)
         return cls(cfg, model, processor, device)
 
     @property

@@ -14,6 +14,7 @@ import torch.nn.functional as F
 from transformers import PreTrainedTokenizerBase
 
 from mobilemani_data import schema
+from mobilemani_vla.config import VLACfg
 from mobilemani_vla.normalizer import Normalizer
 
 # Each state input -> (the dataset feature holding it, its part of that feature). Normalisation bounds are per
@@ -60,6 +61,13 @@ class VLAProcessor:
     states: list[str]
     image_size: int
     prompt: str
+
+    @classmethod
+    def for_config(
+        cls, cfg: VLACfg, tokenizer: PreTrainedTokenizerBase, normalizer: Normalizer, image_size: int
+    ) -> VLAProcessor:
+        """The processor a model trained with `cfg` reads its inputs through."""
+        return cls(tokenizer, normalizer, cfg.inputs.cameras, cfg.inputs.states, image_size, cfg.model.prompt)
 
     def __post_init__(self) -> None:
         needed = [schema.ACTION, *state_features(self.states)]

@@ -126,14 +126,7 @@ def train(cfg: VLACfg) -> TrainResult:
         data = open_data(cfg, model.backbone.image_size, progress=accelerator.is_local_main_process)
     if normalizer is None:
         normalizer = fit_normalizer(data.table, data.table.rows(data.train_episodes), cfg.inputs.states)
-    processor = VLAProcessor(
-        tokenizer,
-        normalizer,
-        cfg.inputs.cameras,
-        cfg.inputs.states,
-        model.backbone.image_size,
-        cfg.model.prompt,
-    )
+    processor = VLAProcessor.for_config(cfg, tokenizer, normalizer, model.backbone.image_size)
     dataset_info = {
         "root": cfg.data.root,
         "train_episodes": data.train_episodes.tolist(),
