@@ -92,3 +92,37 @@ def test_a_rerun_reuses_an_up_to_date_export_and_a_changed_shard_needs_overwrite
         export(cfg)
     cfg.export.overwrite = True
     assert not export(cfg).reused and validate(cfg) == []
+
+
+@pytest.mark.slow
+def test_killed_export_leaves_nothing_complete_and_the_rerun_exports_everything(tmp_path):
+    subset = ["subset.objects=[dishwasher/0000]", "subset.episodes=2"]
+    cfg = tiny_cfg(tmp_path, *subset)
+    collect(cfg)
+    overrides = [
+        f"data_dir={tmp_path}",
+        "data/subset=tiny",
+        *subset,
+        "export.width=64",
+        "export.height=64",
+        "export.vcodec=h264",
+    ]
+    proc = subprocess.Popen(
+        [sys.executable, "-m", "mobilemani_data.export", *overrides],
+        cwd=ROOT,
+        stdout=subprocess.PIPE,
+        stderr=subprocess.DEVNULL,
+        text=True,
+    )
+    # A line per shard once its episodes are in the dataset: kill after the first of four.
+    line = ""
+    while "episodes" not in line and proc.poll() is None:
+        line = proc.stdout.readline()
+    proc.kill()
+    proc.wait()
+    assert "episodes" in line
+    root = Path(cfg.dataset_dir)
+    assert not root.exists() and root.with_name(root.name + ".partial").exists()
+    report = export(cfg)
+    assert (report.episodes, report.skipped) == (8, []) and validate(cfg) == []
+    assert not root.with_name(root.name + ".partial").exists()

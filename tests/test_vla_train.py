@@ -200,3 +200,45 @@ def test_frame_cache_is_built_once_reused_and_rebuilt_when_the_dataset_changes(t
     info.write_text(info.read_text())  # any change to the dataset's files invalidates the cache
     open_data(cfg, 32, progress=False)
     assert cache.stat().st_mtime_ns != built
+
+
+@pytest.mark.slow
+def test_killed_training_resumes_from_its_last_checkpoint_without_repeats(tmp_path):
+    import signal
+    import subprocess
+    import sys
+    import time
+
+    root = write_synthetic_dataset(tmp_path / "g1", episodes=2, length=20)
+    out = tmp_path / "out"
+    overrides = [
+        "vla/model=tiny",
+        "vla/train=cpu",
+        f"data.root={root}",
+        "data.repo_id=synthetic/g1",
+        "data.heldout_episodes=1",
+        f"train.output_dir={out}",
+        "train.logger=none",
+        "train.progress=false",
+        "train.batch_size=4",
+        "train.steps=40",
+        "train.save_every=2",
+        "train.diagnose_every=2",
+        "train.keep_checkpoints=100",
+    ]
+    command = [sys.executable, "-m", "mobilemani_vla.train", *overrides]
+    project = Path(CONF).parent
+    proc = subprocess.Popen(command, cwd=project, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+    deadline = time.time() + 300
+    saved = lambda: sorted((out / "checkpoints").glob("step_*"))  # noqa: E731
+    while time.time() < deadline and proc.poll() is None and len(saved()) < 2:
+        time.sleep(0.05)
+    proc.send_signal(signal.SIGKILL)
+    proc.wait()
+    assert 2 <= len(saved()) < 20, "the kill should land between the first checkpoints and the end"
+    done = subprocess.run(command, cwd=project, capture_output=True, text=True, timeout=600)
+    assert done.returncode == 0, done.stderr[-2000:]
+    steps = [int(p.name.split("_")[1]) for p in sorted((out / "checkpoints").iterdir())]
+    assert steps == list(range(2, 41, 2))  # every checkpoint once, no temporary directory left
+    diagnostics = [json.loads(line)["step"] for line in (out / "diagnostics.jsonl").read_text().splitlines()]
+    assert diagnostics == sorted(set(diagnostics)) and diagnostics[-1] == 40  # nothing repeated by the resume
