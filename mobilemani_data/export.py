@@ -147,13 +147,15 @@ def export_source(cfg: ExportCfg, raw_dir: Path, paths: list[Path]) -> dict:
         k: getattr(cfg, k)
         for k in ("repo_id", "width", "height", "vcodec", "crf", "gop", "preset", "action_convention")
     }
-    shards = {str(p.relative_to(raw_dir)): [p.stat().st_size, p.stat().st_mtime_ns] for p in paths}
+    shards = {str(p.relative_to(raw_dir)): [(st := p.stat()).st_size, st.st_mtime_ns] for p in paths}
     return {**settings, "cameras": list(cfg.cameras), "modalities": list(cfg.modalities), "shards": shards}
 
 
-def up_to_date(root: Path, source: dict) -> bool:
-    report = root / schema.EXPORT_REPORT_FILE
-    return report.is_file() and json.loads(report.read_text()).get("source") == source
+def up_to_date_report(root: Path, source: dict) -> dict | None:
+    """The dataset's export report when it was exported from `source`, else None."""
+    path = root / schema.EXPORT_REPORT_FILE
+    report = json.loads(path.read_text()) if path.is_file() else {}
+    return report if report.get("source") == source else None
 
 
 def export(cfg: DataCfg) -> ExportReport:
@@ -166,10 +168,10 @@ def export(cfg: DataCfg) -> ExportReport:
             f"no shards under {raw_dir / robot.name} (run python -m mobilemani_data.collect)"
         )
     source = export_source(cfg.export, raw_dir, paths)
-    if up_to_date(root, source):  # a rerun (make data, make demo) does not render the same dataset again
+    # A rerun (make data, make demo) does not render the same dataset again.
+    if (existing := up_to_date_report(root, source)) is not None:
         print(f"{root} is up to date with {len(paths)} shards and these export settings; skipped", flush=True)
-        report = json.loads((root / schema.EXPORT_REPORT_FILE).read_text())
-        return ExportReport(root, report["episodes"], report["frames"], report["skipped"], reused=True)
+        return ExportReport(root, existing["episodes"], existing["frames"], existing["skipped"], reused=True)
     if root.exists() and not cfg.export.overwrite:
         raise FileExistsError(
             f"{root} exists and was exported from other shards or settings; "

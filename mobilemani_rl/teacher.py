@@ -31,15 +31,16 @@ def find_teacher_checkpoint(runs_dir: str | Path, robot: str, object_id: str, sk
     """The newest model_*.pt of the object's own run, else of its category's run (a multi-object policy
     trained with task.object=<category>, which acts on any object of the category);
     a clear error naming both."""
+    category_name = get_object(object_id).category
     own = teacher_run_dir(runs_dir, robot, object_id, skill)
-    category = teacher_run_dir(runs_dir, robot, get_object(object_id).category, skill)
+    category = teacher_run_dir(runs_dir, robot, category_name, skill)
     for run_dir in (own, category):
         if (found := latest_checkpoint(run_dir)) is not None:
             return found
     raise FileNotFoundError(
         f"no teacher checkpoint model_*.pt in {own} nor in its category's run {category} (train "
         f"one with python -m mobilemani_rl.train robot={robot} task.object={object_id} or "
-        f"task.object={get_object(object_id).category} task.skill={skill})"
+        f"task.object={category_name} task.skill={skill})"
     )
 
 

@@ -30,8 +30,9 @@ def dataset_root(tmp_path_factory) -> Path:
     return write_synthetic_dataset(tmp_path_factory.mktemp("vla") / "g1", episodes=2, length=20)
 
 
-def tiny_cfg(root: Path, out: Path, overrides: list[str] = ()) -> VLACfg:
-    base = [
+def tiny_overrides(root: Path, out: Path) -> list[str]:
+    """The tiny model and a quiet CPU training on the synthetic dataset at `root`, written to `out`."""
+    return [
         "vla/model=tiny",
         "vla/train=cpu",
         f"data.root={root}",
@@ -42,8 +43,13 @@ def tiny_cfg(root: Path, out: Path, overrides: list[str] = ()) -> VLACfg:
         "train.progress=false",
         "train.batch_size=4",
     ]
+
+
+def tiny_cfg(root: Path, out: Path, overrides: list[str] = ()) -> VLACfg:
     with initialize_config_dir(config_dir=CONF, version_base="1.3"):
-        return vla_cfg_from_hydra(compose(config_name="vla", overrides=[*overrides, *base]))
+        return vla_cfg_from_hydra(
+            compose(config_name="vla", overrides=[*overrides, *tiny_overrides(root, out)])
+        )
 
 
 def test_forward_backward_on_a_dataset_batch(dataset_root, tmp_path):
@@ -212,15 +218,7 @@ def test_killed_training_resumes_from_its_last_checkpoint_without_repeats(tmp_pa
     root = write_synthetic_dataset(tmp_path / "g1", episodes=2, length=20)
     out = tmp_path / "out"
     overrides = [
-        "vla/model=tiny",
-        "vla/train=cpu",
-        f"data.root={root}",
-        "data.repo_id=synthetic/g1",
-        "data.heldout_episodes=1",
-        f"train.output_dir={out}",
-        "train.logger=none",
-        "train.progress=false",
-        "train.batch_size=4",
+        *tiny_overrides(root, out),
         "train.steps=40",
         "train.save_every=2",
         "train.diagnose_every=2",
