@@ -154,13 +154,13 @@ lerobot: setup
 	$(MAKE) eval ROBOT=$(ROBOT) POLICY=lerobot NAME=lerobot_$(LEROBOT_POLICY) \
 		CHECKPOINT=$(LEROBOT_LAST)/pretrained_model
 
-# The whole chain at small scale (about 30 minutes on 2 cores): a PPO teacher for g1 opening test/box, 48 episodes from
+# The whole chain at small scale (about 24 minutes on 2 cores): a PPO teacher for g1 opening test/box, 48 episodes from
 # it in eight train rooms (executed with action noise, DART; 64 px, H.264), the CPU recipe's VLA (vla/model=cpu
 # vla/train=cpu, DEMO_VLA_STEPS steps), closed-loop evaluation of both over 20 episodes in the four unseen test rooms,
 # tables and a report.
 # Every stage resumes or skips finished work, so a rerun after an interruption continues.
 DEMO ?= runs/demo
-DEMO_VLA_STEPS ?= 400
+DEMO_VLA_STEPS ?= 1200
 demo: setup
 	$(MAKE) rl ROBOT=g1 OBJECT=test/box SKILL=open ITERATIONS=300 RL_ARGS="run_dir=$(DEMO)/rl/g1/test/box/open"
 	$(MAKE) data ROBOT=g1 SUBSET=demo TEACHER=ppo DATA_ARGS="data_dir=$(DEMO)/data teacher.runs_dir=$(DEMO)/rl collect.action_noise=0.3 \

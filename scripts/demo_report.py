@@ -44,10 +44,13 @@ def teacher_section(demo: Path, out: Path) -> list[str]:
 
 
 def dataset_section(demo: Path) -> list[str]:
-    info = json.loads((demo / "data" / "lerobot" / "meta" / "info.json").read_text())
+    meta = demo / "data" / "lerobot" / "meta"
+    info = json.loads((meta / "info.json").read_text())
     episodes, frames = info["total_episodes"], info["total_frames"]
+    rows = [json.loads(line) for line in (meta / "mobilemani_episodes.jsonl").read_text().splitlines()]
+    rooms = len({row["scene"] for row in rows})
     return [
-        "## 2. Dataset (LeRobot v3, teacher rollouts in 3 train rooms)",
+        f"## 2. Dataset (LeRobot v3, teacher rollouts in {rooms} train rooms)",
         "",
         f"- {episodes} successful episodes, {frames} frames ({frames / max(episodes, 1):.0f} per episode at "
         f"{info['fps']} FPS), cameras: "
@@ -77,10 +80,15 @@ def vla_section(demo: Path, out: Path) -> list[str]:
     diagnostics = demo / "vla" / "diagnostics.jsonl"
     if diagnostics.is_file():
         last = json.loads(diagnostics.read_text().splitlines()[-1])
+        image, null = last["noise_mse/image"], last["noise_mse/null_image"]
+        verdict = (
+            "lower with the image: the action head uses what the cameras see"
+            if image < null
+            else "not lower with the image: the action head does not use the cameras yet"
+        )
         lines.append(
-            f"- held-out noise error at step {last['step']}: {last['noise_mse/image']:.4f} with the image "
-            f"feature, {last.get('noise_mse/null_image', float('nan')):.4f} with the null vector "
-            "(lower with the image: the action head uses what the cameras see)"
+            f"- held-out noise error at step {last['step']}: {image:.4f} with the image "
+            f"feature, {null:.4f} with the null vector ({verdict})"
         )
     return lines + ["", "![VLA loss](vla_loss.png)", ""]
 
