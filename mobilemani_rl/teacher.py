@@ -16,8 +16,7 @@ from omegaconf import DictConfig, OmegaConf
 from tensordict import TensorDict
 
 from mobilemani_rl.assets.objects import get_object
-from mobilemani_rl.envs.mobilemani_env import MobileManiEnv
-from mobilemani_rl.envs.multi_object import MultiObjectEnv
+from mobilemani_rl.envs.batched import BatchedEnv
 from mobilemani_rl.rl.factory import build_runner
 from mobilemani_rl.rl.run_dir import CONFIG, RESULT, latest_checkpoint
 
@@ -62,10 +61,10 @@ def run_config(checkpoint: Path) -> DictConfig:
 
 def load_teacher(
     checkpoint: Path,
-    env: MobileManiEnv | MultiObjectEnv | None = None,
+    env: BatchedEnv | None = None,
     num_envs: int | None = None,
     cfg: DictConfig | None = None,
-) -> tuple[MobileManiEnv | MultiObjectEnv, torch.nn.Module]:
+) -> tuple[BatchedEnv, torch.nn.Module]:
     """The teacher's env and deterministic actor. The actor acts in `env` when given, else in a new env built
     from `cfg` (default: the run's own config) with `num_envs` envs; the teacher was trained with that
     config's physics and action scales."""
@@ -81,7 +80,7 @@ def load_teacher(
 class TeacherPolicy:
     """A teacher's actor reading the env's current observation: (num_envs, action_dim) actions per call."""
 
-    def __init__(self, env: MobileManiEnv, actor: torch.nn.Module) -> None:
+    def __init__(self, env: BatchedEnv, actor: torch.nn.Module) -> None:
         self.env, self.actor = env, actor
 
     @torch.inference_mode()

@@ -1,4 +1,5 @@
-"""Adapters of MobileManiEnv to rsl-rl's `VecEnv` (TensorDict observations) and Gymnasium's `VectorEnv`."""
+"""Adapters of a batched env (MobileManiEnv, MultiObjectEnv) to rsl-rl's `VecEnv` (TensorDict observations)
+and Gymnasium's `VectorEnv`."""
 
 from __future__ import annotations
 
@@ -11,14 +12,14 @@ from gymnasium.vector import AutoresetMode
 from rsl_rl.env import VecEnv
 from tensordict import TensorDict
 
-from mobilemani_rl.envs.mobilemani_env import MobileManiEnv
+from mobilemani_rl.envs.batched import BatchedEnv
 
 
 class RslRlVecEnv(VecEnv):
     """rsl-rl view: observations under group "policy" (policy = critic, docs/reference.md §4);
     `time_outs` bootstraps."""
 
-    def __init__(self, env: MobileManiEnv, device: str = "cpu") -> None:
+    def __init__(self, env: BatchedEnv, device: str = "cpu") -> None:
         self.env = env
         self.device = device
         self.num_envs = env.num_envs
@@ -64,7 +65,7 @@ class GymVectorEnv(gym.vector.VectorEnv):
 
     metadata: dict[str, Any] = {"autoreset_mode": AutoresetMode.SAME_STEP}
 
-    def __init__(self, env: MobileManiEnv) -> None:
+    def __init__(self, env: BatchedEnv) -> None:
         self.env = env
         self.num_envs = env.num_envs
         clip = env.cfg.obs_clip

@@ -8,6 +8,7 @@ import torch
 from omegaconf import DictConfig, OmegaConf
 
 from mobilemani_rl.assets.objects import CATEGORIES, catalog_ids
+from mobilemani_rl.envs.batched import BatchedEnv
 from mobilemani_rl.envs.config import EnvCfg, env_cfg_from_hydra
 from mobilemani_rl.envs.mobilemani_env import MobileManiEnv
 from mobilemani_rl.envs.multi_object import MultiObjectEnv
@@ -27,7 +28,7 @@ def policy_objects(task_object: str, max_objects: int) -> list[str] | None:
     return catalog_ids(task_object, "train")[:max_objects]
 
 
-def make_env(env_cfg: EnvCfg, max_objects: int) -> MobileManiEnv | MultiObjectEnv:
+def make_env(env_cfg: EnvCfg, max_objects: int) -> BatchedEnv:
     objects = policy_objects(env_cfg.task.object, max_objects)
     return MobileManiEnv(env_cfg) if objects is None else MultiObjectEnv(env_cfg, objects)
 
@@ -36,7 +37,7 @@ def build_runner(
     cfg: DictConfig,
     run_dir: Path | None,
     num_envs: int | None = None,
-    env: MobileManiEnv | MultiObjectEnv | None = None,
+    env: BatchedEnv | None = None,
 ) -> MobileManiRunner:
     """Env + rsl-rl runner for a composed config (run_dir None: no logging, e.g. for evaluation)."""
     ppo = ppo_cfg_from_hydra(cfg)

@@ -21,6 +21,7 @@ from tensordict import TensorDict
 from tqdm import tqdm
 
 from mobilemani_rl.envs.actions import dart_perturbed
+from mobilemani_rl.envs.batched import BatchedEnv
 from mobilemani_rl.envs.mobilemani_env import MobileManiEnv, StepResult
 from mobilemani_rl.envs.multi_object import MultiObjectEnv
 from mobilemani_rl.rl.config import WarmStartCfg
@@ -84,9 +85,7 @@ def record_batch(env: MobileManiEnv, noise: float, seed: int, gamma: float, bar:
     )
 
 
-def collect(
-    env: MobileManiEnv | MultiObjectEnv, episodes: int, noise: float, seed: int, gamma: float
-) -> Demonstrations:
+def collect(env: BatchedEnv, episodes: int, noise: float, seed: int, gamma: float) -> Demonstrations:
     """At least `episodes` labelled episodes of every object (a multi-object env holds one env per object)."""
     batches = [
         (part, seed + i)
@@ -143,7 +142,7 @@ def fit(
 def warm_start(
     actor: torch.nn.Module,
     critic: torch.nn.Module,
-    env: MobileManiEnv | MultiObjectEnv,
+    env: BatchedEnv,
     cfg: WarmStartCfg,
     gamma: float,
 ) -> dict:
