@@ -23,7 +23,7 @@ STAGE_HALF = (2.0, 1.0, 0.5)  # the reference's 4 x 2 x 1 m support stage
 
 def stage_top(obj: ObjectModel, placement: Placement | None) -> float:
     """Height of the object's bottom before any random lift: the table top in tabletop scenes
-    (docs/reference.md §8b), else the category's init_height."""
+    (its height comes with the room), else the category's init_height."""
     if placement is not None and placement.setting is Place.TABLETOP:
         return placement.support_height
     return obj.params.init_height
@@ -42,7 +42,7 @@ def upright_position(obj: ObjectModel, top: np.ndarray) -> np.ndarray:
 
 def pick_shift(obj: ObjectModel, pick_y_offset: float) -> float:
     """How much further back (+y) than `upright_position` the object starts: rigid objects by `pick_y_offset`
-    (docs/reference.md §6d), the others not at all."""
+    (0.1 m in the reference), the others not at all."""
     return pick_y_offset if obj.kind is ObjectKind.RIGID else 0.0
 
 

@@ -1,9 +1,10 @@
 """The object catalog: 631 ids `<category>/<index:04d>`, their train/test split, and the task table.
 
-Counts follow the reference code's object lists (docs/reference.md §6f). Within a category the train indices
-come first and the test indices after them (e.g. box 0-9 train, 10-13 test), except holistic (YCB-like), whose
-first 18 entries are the test objects (docs/reference.md §6f, §9). Each object is generated from a numpy
-Generator seeded with the CRC32 of its id, so an id always yields the same model, in any process.
+Counts follow the reference code's object lists (docs/reference.md, "Per-category constants"). Within a
+category the train indices come first and the test indices after them (e.g. box 0-9 train, 10-13 test), except
+holistic (YCB-like), whose first 18 entries are the test objects (as in the reference's YCB list). Each object
+is generated from a numpy Generator seeded with the CRC32 of its id, so an id always yields the same model, in
+any process.
 """
 
 from __future__ import annotations

@@ -1,4 +1,5 @@
-"""Per-category scene parameters (docs/reference.md §6f) and the skills each kind of object supports."""
+"""Per-category scene parameters (docs/reference.md, "Per-category constants") and the skills each kind of
+object supports."""
 
 from __future__ import annotations
 
@@ -31,7 +32,7 @@ ALL_SKILLS = ("open", "close", "pull", "push", "pick")
 
 @dataclass(frozen=True)
 class CategoryParams:
-    """docs/reference.md §6f row. Scale multiplies the generated geometry;
+    """One row of the reference's per-category table. Scale multiplies the generated geometry;
     mass is the operated link's mass."""
 
     scale: float
@@ -40,7 +41,7 @@ class CategoryParams:
     gravity: bool
     init_joint: float  # radians the operated joint starts past its lower limit
     init_height: float  # metres added under the object (stage top)
-    random_height: bool  # stage height randomised U(0, 0.5) m (docs/reference.md §6g)
+    random_height: bool  # stage height randomised U(0, 0.5) m in RL training
 
 
 def _row(
@@ -69,7 +70,7 @@ CATEGORY_PARAMS: dict[str, CategoryParams] = {
     "fridge": _row(1.0, 1.0, Place.WALL, False, 0, 0.0),
     "lever_door": _row(0.8, 1.0, Place.DOOR, False, 0, 0.0),
     "round_door": _row(0.8, 1.0, Place.DOOR, False, 0, 0.0),
-    # Windows get a random height too (docs/reference.md §6g), though they stand in a door-like frame.
+    # Windows get a random height too, as in the reference, though they stand in a door-like frame.
     "window": CategoryParams(0.6, 1.0, Place.DOOR, False, 0.0, 0.2, True),
     "safe": _row(1.0, 1.0, Place.TABLETOP, False, 0, 0.2),
 }

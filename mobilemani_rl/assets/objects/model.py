@@ -18,7 +18,7 @@ from mobilemani_rl.assets.objects.categories import (
 
 GRASP_SITE = "grasp"
 ROOT_BODY = "object"
-OPEN_ANGLE = np.radians(60.0)  # revolute joints open to lower + 60° (docs/reference.md §6b)
+OPEN_ANGLE = np.radians(60.0)  # revolute joints open to lower + 60°, as in the reference
 OPEN_RATIO = 0.6  # prismatic joints open to 60 % of their range
 CLOSE_START = (np.radians(40.0), np.radians(80.0))  # close tasks start 40–80° open (revolute)
 CLOSE_START_RATIO = (0.4, 0.8)  # ... or 40–80 % open (prismatic)
@@ -92,7 +92,7 @@ class ObjectKinematics:
         return cls((lower, upper), is_hinge, init, opened, closed_pos, opened_pos, low, front)
 
     def close_start_range(self) -> tuple[float, float]:
-        """Joint values a close task starts between (docs/reference.md §6e: 40–80° or 40–80 % open)."""
+        """Joint values a close task starts between, as in the reference: 40–80° or 40–80 % open."""
         lower, upper = self.joint_range
         if self.joint_is_hinge:
             return min(lower + CLOSE_START[0], upper), min(lower + CLOSE_START[1], upper)

@@ -14,7 +14,7 @@ BOX = mujoco.mjtGeom.mjGEOM_BOX
 CAPSULE = mujoco.mjtGeom.mjGEOM_CAPSULE
 CYLINDER = mujoco.mjtGeom.mjGEOM_CYLINDER
 
-# Passive object joints: no stiffness, damping 0.1 (docs/reference.md §10.19).
+# Passive object joints: no stiffness, damping 0.1, as in the reference.
 JOINT_DAMPING = 0.1
 
 
@@ -72,7 +72,8 @@ def add_moving_link(
 
 
 def apply_gravity_setting(spec: mujoco.MjSpec, params: CategoryParams) -> None:
-    """Categories without gravity (docs/reference.md §6f) get full gravity compensation on every body."""
+    """Categories without gravity (all but carts and rigid objects) get full gravity compensation on every
+    body."""
     for body in spec.bodies[1:]:
         body.gravcomp = 0.0 if params.gravity else 1.0
 

@@ -12,7 +12,7 @@ import mujoco
 class RobotDescription:
     """Names and constants of one robot, with the same kinematic roles as the reference robots.
 
-    The IK chain is base yaw + base forward slide + 7 arm joints (docs/reference.md §3); hand joints are
+    The IK chain is base yaw + base forward slide + 7 arm joints, as in the reference; hand joints are
     mapped absolutely from [-1, 1] onto their limits, in action order. `hand_mimic` couples passive copies of
     a hand joint (the second finger of a parallel gripper) to their leader.
     """

@@ -1,5 +1,5 @@
-"""Visual-only primitives on a scene body: rooms never collide (contype = conaffinity = 0,
-docs/reference.md §8b)."""
+"""Visual-only primitives on a scene body: rooms never collide (contype = conaffinity = 0),
+as in the reference."""
 
 from __future__ import annotations
 

@@ -1,6 +1,6 @@
 """`add_scene`: decorate the plain scene spec (mobilemani_rl/envs/scene.py) with a placement's room.
 
-The whole room is one mocap body, `scene/room`, so the env can jitter it per reset (docs/reference.md §8b:
+The whole room is one mocap body, `scene/room`, so the env can jitter it per reset (as the reference does:
 x ~ U(-0.1, 0.1), y ~ U(-0.05, 0.05), no yaw) with
 `mocap_pos[env, room_mocap] = model.body_pos[room] + offset` (see `sample_room_offsets`). Room geoms never
 collide; the plain scene's stage and ground stay physical but move to a geom group the renderer does not

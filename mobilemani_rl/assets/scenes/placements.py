@@ -1,6 +1,6 @@
 """The 100 scene placements: 5 settings x (16 train + 4 test), deterministic from (setting, index).
 
-Scene ids are `<setting>/<index:02d>`; indices 00–15 are train, 16–19 test (docs/reference.md §8b: each place
+Scene ids are `<setting>/<index:02d>`; indices 00–15 are train, 16–19 test (as in the reference, each place
 type has 16 train + 4 test room entries; `room_id` indexes within the split).
 """
 
@@ -67,7 +67,7 @@ def get_placement(scene_id: str) -> Placement:
 
 
 def setting_of(obj: ObjectModel) -> Place:
-    """The placement setting an object goes into (docs/reference.md §6f `place`)."""
+    """The placement setting an object goes into (its category's `place`)."""
     return obj.params.place
 
 

@@ -231,7 +231,7 @@ def washing_machine(rng: np.random.Generator) -> Design:
 
 def refrigerator(rng: np.random.Generator) -> Design:
     """Tall fridge: single door, top or bottom freezer, or side by side; the operated door has a vertical bar
-    (the reference turns the palm for refrigerator doors, docs/reference.md §5b)."""
+    (the reference rewards a turned palm when opening refrigerators)."""
     layout = choice(rng, ("single", "top_freezer", "bottom_freezer", "side_by_side"))
     w, d, h = uniform(rng, 0.55, 0.8), uniform(rng, 0.55, 0.7), uniform(rng, 1.3, 1.75)
     door_t, split = uniform(rng, 0.04, 0.06), uniform(rng, 0.28, 0.36)

@@ -1,6 +1,6 @@
 """Push carts: a deck on four wheels, a push bar facing the robot, and a basket or a second shelf.
 
-The wheels are real hinged cylinders rather than the reference's zero-friction trick (docs/reference.md §6e):
+The wheels are real hinged cylinders rather than the reference's trick of zeroing friction for carts:
 the cart rolls along y when pulled or pushed, resists sliding sideways, and stays put when nothing touches it.
 """
 

@@ -1,6 +1,6 @@
 """Building blocks shared by the category generators: colours, sampled dimensions, carcasses, handles, links.
 
-All generators build in metres at the category's scale (docs/reference.md §6f scale already applied), in the
+All generators build in metres at the category's scale (CategoryParams.scale already applied), in the
 object frame: front (where the robot stands) toward -y, bottom at z = 0. Moving parts keep a few millimetres
 of clearance from the fixed parts so that sweeping a joint never makes the object touch itself.
 """

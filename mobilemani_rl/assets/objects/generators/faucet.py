@@ -1,7 +1,7 @@
 """Single-lever mixer taps: base, column, spout, and a lever that lifts (hinge along x) or swivels (along z).
 
-The grasp point is near the lever's tip, which points toward the robot (the reference forces the faucet
-handle direction, docs/reference.md §6b). The spout is turned aside so that it does not sit under the lever's
+The grasp point is near the lever's tip, which points toward the robot (the reference fixes the faucet
+handle direction instead of measuring it). The spout is turned aside so that it does not sit under the lever's
 tip.
 """
 

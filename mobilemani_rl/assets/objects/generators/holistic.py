@@ -2,8 +2,8 @@
 
 Every shape is at most ~6.5 cm across horizontally (the fingers open 8 cm, and the object spawns at any yaw),
 at least ~4.5 cm tall (finger pads are 3.6 cm wide and must clear the stage), with a flat or oblate bottom so
-it rests without rolling. The grasp point is the centre of mass; the object weighs 0.01 kg
-(docs/reference.md §6c).
+it rests without rolling. The grasp point is the centre of mass; the object weighs 0.01 kg, as in the
+reference.
 """
 
 from __future__ import annotations

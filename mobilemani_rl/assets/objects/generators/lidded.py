@@ -1,6 +1,6 @@
 """Objects opened by lifting a lid hinged along its back edge: box, laptop, toilet, trashcan.
 
-The grasp point is the lid's free (front) edge, as the reference refines it (docs/reference.md §6c): a
+The grasp point is the lid's free (front) edge, as the reference refines it (to the points that move most): a
 protruding tab or lip the fingers close on from above and below, or a bar handle in front of the edge.
 """
 
