@@ -1,9 +1,9 @@
 """Conversions between the env-local world frame and the robot base frame (states and actions for the VLA).
 
-World-frame actions (docs/reference.md §3): a[0:3] is a wrist translation, a[3:6] an RPY rotation applied as a
+World-frame actions: a[0:3] is a wrist translation, a[3:6] an RPY rotation applied as a
 left-multiplied world-frame delta, a[6:] hand joints. In the base frame the translation is rotated by the base
 orientation and the rotation delta is conjugated: R_base = B⁻¹ R_world B, so a zero rotation stays zero.
-The reference's released data instead stores RPY(B⁻¹ ⊗ R_world) (docs/reference.md §10.3, a left product that
+The reference's released data instead stores RPY(B⁻¹ ⊗ R_world) (a left product that
 maps a zero rotation to the negative base orientation);
 `convention="reference"` reproduces it for compatibility.
 """

@@ -3,7 +3,7 @@
     python -m mobilemani_rl.scripted_table [--robots g1 xhand] [--per-category 3] [--episodes 4]
 
 Each (robot, object, skill) runs `episodes` seeded episodes in one batched env; an episode succeeds if its
-latched success flag is set when it ends (the env's own success definition, docs/reference.md §5c). Prints a
+latched success flag is set when it ends (the env's own success definition). Prints a
 Markdown table (mean success and how many sampled objects reach the 60 % bar, per category and skill) and
 JSON.
 """

@@ -30,10 +30,10 @@ class SubsetCfg:
     skills: list[str] | None = None  # None: every skill of each object
     scenes: list[str] | None = None  # explicit scene ids (those of the object's setting are used)
     scenes_per_object: int | None = None  # first k scenes of the object's setting; None: all of the split
-    episodes: int = 10  # successful episodes per combination (docs/reference.md §8a)
+    episodes: int = 10  # successful episodes per combination, as the reference records
 
 
-# Reference docs/reference.md §8f: the verb is the skill (carts already pull/push, rigid objects pick); the
+# As in the reference, the verb is the skill (carts already pull/push, rigid objects pick); the
 # noun is the object's category with underscores as spaces, except that both door kinds are "door" and the
 # YCB-like set, which has no per-object names here, is "object".
 NOUNS = {"lever_door": "door", "round_door": "door", "holistic": "object"}

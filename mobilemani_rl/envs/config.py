@@ -1,6 +1,6 @@
 """Environment configuration dataclasses, mirrored by conf/env/*.yaml.
 
-Defaults are the reference's (docs/reference.md §1–6) except for the MuJoCo
+Defaults are the reference's (docs/reference.md) except for the MuJoCo
 timestep, which is ours: see PhysicsCfg.
 """
 
@@ -59,7 +59,7 @@ class ResetCfg:
     stage_shift: float = 0.1  # stage front face moved toward the robot by U(0, 0.1) m
     pick_yaw_deg: float = 90.0  # rigid objects spawn with yaw U(-90°, 90°)
     pick_y_offset: float = 0.1
-    # Data recording (docs/reference.md §8b): no stage shift and no random height
+    # Data recording, as in the reference: no stage shift and no random height
     # (windows keep theirs); room jitter on.
     recording: bool = False
     room_jitter_x: list[float] = field(default_factory=lambda: [-0.1, 0.1])
@@ -68,7 +68,7 @@ class ResetCfg:
 
 @dataclass
 class RewardWeights:
-    """Reference docs/reference.md §5b; identical for both robots."""
+    """The reference's weights (docs/reference.md, "Reward terms"); identical for both robots."""
 
     diff_reach_pos_action: float = -0.1
     diff_reach_rot_action: float = -0.1

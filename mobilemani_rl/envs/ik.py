@@ -11,9 +11,9 @@ def wrist_pose_error(actions: np.ndarray, pos_scale: float, rot_scale: float) ->
     """World-frame pose error (position; rotation vector) of the commanded wrist delta, (n, 6).
 
     The goal is hand_pos + a[0:3]·pos_scale and quat(euler(a[3:6]·rot_scale)) ⊗ hand_quat (a left-multiplied,
-    world-frame rotation, docs/reference.md §3), so its error from the current hand pose is the delta itself.
+    world-frame rotation, as in the reference), so its error from the current hand pose is the delta itself.
     The reference expresses this error in the root frame but leaves the Jacobian in the world frame; both are
-    in the world frame here (DESIGN: reproduce behaviour, not the frame quirk).
+    in the world frame here (we reproduce the behaviour, not the frame quirk).
     """
     rotation = quat_from_euler(actions[:, 3:6] * rot_scale)
     return np.concatenate((actions[:, 0:3] * pos_scale, axis_angle_from_quat(rotation)), axis=1)

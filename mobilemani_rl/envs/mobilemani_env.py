@@ -1,6 +1,6 @@
 """The batched MobileManiRL environment: N MuJoCo simulations in one `mujoco.batch.Batch`.
 
-Step order follows the reference DirectRLEnv (docs/reference.md §1): action → IK → physics substeps → counters
+Step order follows the reference DirectRLEnv: action → IK → physics substeps → counters
 → dones → rewards → resets → observations. Everything above physics is vectorised numpy over envs.
 """
 
@@ -26,7 +26,7 @@ from mobilemani_rl.envs.scene import build_scene
 from mobilemani_rl.registry import check_positive
 from mobilemani_rl.rotations import quat_from_euler, quat_mul, vector_norm
 
-# The palm-rotation reach term is on only for these (category, skill) pairs (docs/reference.md §5b).
+# The palm-rotation reach term is on only for these (category, skill) pairs, as in the reference.
 PALM_ROTATION_TASKS = {("holistic", "pick"), ("refrigerator", "open")}
 PALM_ROTATION_PRE = quat_from_euler(np.array([0.0, np.pi / 2, 0.0]))  # +90° about world y
 
@@ -177,7 +177,7 @@ class MobileManiEnv:
         frames = self.frames = self.frame_reader.read()
         scfg = self.cfg.success
         dist = self.task_distances = TaskDistances.measure(frames, self.goal_pos)
-        # Truncation reads the success counter before this step's success is added (docs/reference.md §5c).
+        # Truncation reads the success counter before this step's success is added, as in the reference.
         truncated = (self.episode_length_buf >= self.max_episode_length - 1) | (
             self.success_count >= scfg.hold_steps
         )

@@ -1,4 +1,4 @@
-"""The policy observation in the reference order (docs/reference.md §4): 146-d for G1, 223-d for XHand."""
+"""The policy observation in the reference order (docs/reference.md, "Observation"): 146-d G1, 223-d XHand."""
 
 from __future__ import annotations
 

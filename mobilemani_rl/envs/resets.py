@@ -1,5 +1,5 @@
-"""Sampling of episode starts (docs/reference.md §2c, §6d–g): robot pose, object placement,
-stage, joint, goal."""
+"""Sampling of episode starts as the reference does (docs/reference.md, "Robot placement at reset" and
+"Objects"): robot pose, object placement, stage, joint, goal."""
 
 from __future__ import annotations
 
@@ -44,7 +44,7 @@ def sample_episode_start(
 ) -> EpisodeStart:
     kin, params = obj.kinematics, obj.params
     # Recording and realistic rooms (the object stands on the placement's visible table) zero the random
-    # height, except for windows, and the stage shift (docs/reference.md §8b).
+    # height, except for windows, and the stage shift, as the reference records.
     plain = placement is None and not cfg.recording
     random_height = params.random_height and (plain or obj.category == "window")
     lift = rng.uniform(0.0, cfg.random_height, n) if random_height else np.zeros(n)
@@ -68,8 +68,8 @@ def sample_episode_start(
         (rng.uniform(*cfg.root_x_range, n), rng.uniform(*cfg.root_y_range, n)), axis=1
     )
     if skill == "close" and obj.kind is ObjectKind.ARTICULATED:
-        # Back out of the door's sweep when opening moves the handle toward the robot
-        # (docs/reference.md §2c.5).
+        # Back out of the door's sweep when opening moves the handle toward the robot, as the reference
+        # does.
         sweep = kin.handle_opened[:2] - kin.handle_closed[:2]
         if sweep[1] < 0:
             root_xy = root_xy + sweep
@@ -98,7 +98,7 @@ def _goal(
     grasp_start: np.ndarray,
     n: int,
 ) -> tuple[np.ndarray, np.ndarray]:
-    """Goal points (docs/reference.md §6e) and the default goal distance D0."""
+    """Goal points (docs/reference.md, "Goals") and the default goal distance D0."""
     kin = obj.kinematics
     if skill == "open":
         goal = object_pos + kin.handle_opened

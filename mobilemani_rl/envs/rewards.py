@@ -1,5 +1,5 @@
-"""Reward terms, grasp flag and success (docs/reference.md §5). Every term is returned separately for
-logging."""
+"""Reward terms, grasp flag and success (docs/reference.md, "Rewards, success, termination"). Every term is
+returned separately for logging."""
 
 from __future__ import annotations
 
@@ -17,12 +17,12 @@ from mobilemani_rl.rotations import (
     vector_norm,
 )
 
-GRASP_DIRECTION = np.array([0.0, 1.0, 0.0])  # articulated and YCB tasks alike (docs/reference.md §5a)
+GRASP_DIRECTION = np.array([0.0, 1.0, 0.0])  # articulated and YCB tasks alike
 
 
 @dataclass
 class TaskDistances(EnvRows):
-    """Point distances to the single grasp point (docs/reference.md §4/§5);
+    """Point distances to the single grasp point;
     shared by rewards and observations."""
 
     hand: np.ndarray  # (n,) d_h: palm point to grasp point
@@ -96,7 +96,8 @@ def reward_terms(
     grasped: np.ndarray,
     success_cfg: SuccessCfg,
 ) -> dict[str, np.ndarray]:
-    """Unweighted reward terms (docs/reference.md §5b), each already gated by its activity condition."""
+    """Unweighted reward terms (docs/reference.md, "Reward terms"), each already gated by its activity
+    condition."""
     reaching = (d.hand > success_cfg.reach_radius).astype(np.float64)
     holding = grasped.astype(np.float64)
     n = actions.shape[0]

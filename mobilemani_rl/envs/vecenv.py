@@ -16,7 +16,7 @@ from mobilemani_rl.envs.batched import BatchedEnv
 
 
 class RslRlVecEnv(VecEnv):
-    """rsl-rl view: observations under group "policy" (policy = critic, docs/reference.md §4);
+    """rsl-rl view: observations under group "policy" (policy = critic: no asymmetric critic);
     `time_outs` bootstraps."""
 
     def __init__(self, env: BatchedEnv, device: str = "cpu") -> None:

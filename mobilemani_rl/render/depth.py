@@ -2,7 +2,7 @@
 
 MuJoCo's offscreen depth buffer (reversed Z, `mjDEPTH_ZEROFAR`) holds d = near (far - z) / (z (far - near))
 for a point at z-depth z (distance along the optical axis). The reference stores the *ray* distance from the
-camera centre (Isaac Lab `distance_to_camera`, docs/reference.md §8c), which for a pinhole camera with focal
+camera centre (Isaac Lab `distance_to_camera`), which for a pinhole camera with focal
 length f (pixels) and principal point c is z * sqrt(1 + ((u - cx) / f)^2 + ((v - cy) / f)^2) at pixel centre
 (u, v). MuJoCo cameras have square pixels: f = (H / 2) / tan(fovy / 2) for both axes, c = (W / 2, H / 2).
 """

@@ -1,4 +1,4 @@
-"""Geom -> label tables for segmentation: object 1, robot 2, everything else 0 (docs/reference.md §8d)."""
+"""Geom -> label tables for segmentation: object 1, robot 2, everything else 0, as in the reference."""
 
 from __future__ import annotations
 

@@ -25,7 +25,7 @@ class WarmStartCfg:
 
 @dataclass
 class PpoCfg:
-    """Defaults are the reference's (docs/reference.md §7), i.e. conf/rl/ppo/paper.yaml."""
+    """Defaults are the reference's (docs/reference.md, "PPO"), i.e. conf/rl/ppo/paper.yaml."""
 
     num_envs: int = 1024
     num_steps_per_env: int = 16
@@ -82,7 +82,7 @@ def rsl_rl_train_cfg(ppo: PpoCfg, logger: dict | str, run_name: str) -> dict:
         "obs_groups": {
             "actor": ["policy"],
             "critic": ["policy"],
-        },  # no asymmetric critic (docs/reference.md §4)
+        },  # no asymmetric critic, as in the reference
         "algorithm": {
             "class_name": "PPO",
             "learning_rate": ppo.learning_rate,
