@@ -2,7 +2,7 @@
 (conf/data/subset, conf/data/teacher).
 
 The env block (conf/env) is the RL env's EnvCfg; collection turns on its recording resets
-(docs/reference.md §8b).
+(no stage shift or random height; room jitter on).
 """
 
 from __future__ import annotations
@@ -22,15 +22,13 @@ class TeacherCfg:
     runs_dir: str = (
         "runs/rl"  # ppo: newest <runs_dir>/<robot>/<object or else its category>/<skill>/model_*.pt
     )
-    min_train_success: float = 0.1  # ppo: skip tasks whose teacher trained below this (docs/reference.md §8a)
+    min_train_success: float = 0.1  # ppo: skip tasks whose teacher trained below this, as the reference does
 
 
 @dataclass
 class CollectCfg:
     num_envs: int = 16  # episodes run in parallel per combination
-    max_steps: int = (
-        6000  # control steps of the batch per combination before giving up (docs/reference.md §8a)
-    )
+    max_steps: int = 6000  # control steps of the batch per combination before giving up, as in the reference
     seed: int = 0  # mixed with each combination's name into its env seed
     compression: int = 4  # gzip level of the HDF5 datasets
     action_noise: float = 0.0  # std of Gaussian noise added to the executed (not the recorded) action: DART
@@ -47,16 +45,14 @@ class ShardCfg:
 @dataclass
 class ExportCfg:
     repo_id: str = "mobilemani/g1"
-    width: int = 520  # docs/reference.md §8c
+    width: int = 520  # the reference's camera size
     height: int = 520
     vcodec: str = "libsvtav1"
     crf: int = 30
     gop: int = 2  # keyframe interval: small so random frame access stays cheap
     preset: int | None = None  # None: the codec's default
     streaming_encoding: bool = True  # encode frames as they come (no temporary PNGs)
-    action_convention: str = (
-        "conjugate"  # base_frame.Convention; "reference": the released data's quirk (docs/reference.md §10.3)
-    )
+    action_convention: str = "conjugate"  # base_frame.Convention; "reference": the released data's quirk
     # The image streams written, i.e. what a stock LeRobot policy trains on
     # (it takes every observation.images.*):
     cameras: list[str] = field(default_factory=lambda: ["head", "wrist"])  # any of schema.CAMERAS

@@ -1,9 +1,9 @@
 """One recorded episode -> the schema's per-frame vectors and images (mobilemani_data.schema).
 
-Exported frames are the recorded states t = 1 … T-1 (the reset state is dropped as in docs/reference.md §8d).
-The action stored with frame t is the one the teacher took after seeing it (applied from state t): the label
-shift of docs/reference.md §8g happens here, so a reader takes `action` / `world.action` of a frame as its
-label as they are.
+Exported frames are the recorded states t = 1 … T-1 (the reset state is dropped, as in the reference).
+The action stored with frame t is the one the teacher took after seeing it (applied from state t): the
+reference's label shift by one happens here, so a reader takes `action` / `world.action` of a frame as
+its label as they are.
 """
 
 from __future__ import annotations

@@ -68,7 +68,7 @@ def collect_successes(
         return [successes[k] for k in sorted(successes) if k < first_open][:episodes]
 
     while len(decided()) < episodes and steps < max_steps:
-        # The env clamps actions to [-1, 1] before IK; store them as applied (docs/reference.md §8d).
+        # The env clamps actions to [-1, 1] before IK; store them as applied, as the reference does.
         actions = np.clip(np.nan_to_num(np.asarray(policy(), dtype=np.float64), nan=0.0), -1.0, 1.0)
         snap["action"] = actions
         if action_noise > 0:
@@ -85,7 +85,7 @@ def collect_successes(
                 continue
             attempts += 1
             # Kept only if a stored state is successful
-            # (the terminal state is not stored, docs/reference.md §8e).
+            # (the terminal state is not stored).
             if running[slot][-1]["success"][slot]:
                 successes[(rounds[slot], slot)] = _episode(running[slot], slot, rounds[slot])
             rounds[slot] += 1

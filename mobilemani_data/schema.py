@@ -4,10 +4,11 @@ Feature names, shapes and meanings. Images are stored as videos (H, W, 3) uint8;
 clipped to 0–5 m and scaled to 0–255, replicated to 3 channels; segmentation is object = 1, robot = 2,
 background = 0, scaled by SEGMENTATION_SCALE so the classes survive lossy video.
 
-Frames are the recorded control steps t = 1 … T-1 of an episode (docs/reference.md §8d: neither the reset nor
-the terminal state). Action labels are aligned at export (docs/reference.md §8g): `action` / `world.action` of
-frame t is the action the teacher took after seeing frame t (applied from state t, leading to t+1), so a
-reader uses them as they are; the last frame's label is the episode's final action (no duplication needed).
+Frames are the recorded control steps t = 1 … T-1 of an episode (as in the reference: neither the reset nor
+the terminal state). Action labels are aligned at export (the reference's shift by one): `action` /
+`world.action` of frame t is the action the teacher took after seeing frame t (applied from state t, leading
+to t+1), so a reader uses them as they are; the last frame's label is the episode's final action (no
+duplication needed).
 """
 
 from __future__ import annotations

@@ -10,11 +10,11 @@ Group `episode_<k>` per kept episode, T control steps long, arrays with time fir
   success (T,)         latched success flag at state t
   hand_pos/quat, base_pos/quat, palm_pos/quat, palm_linvel/angvel, grasp_pos/quat, grasp_linvel, joint_pos/vel
                        world-frame robot and object states at t
-                       (docs/reference.md §4 quantities; joints: IK chain, hand)
+                       (the observation's quantities; joints: IK chain, hand)
   goal_pos (3,)        the episode's goal point
 
 The state after the last action (the terminal step) is not stored: the env resets it in the same step, as the
-reference drops its terminal frame (docs/reference.md §8d).
+reference drops its terminal frame.
 """
 
 from __future__ import annotations

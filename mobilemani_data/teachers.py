@@ -1,5 +1,4 @@
-"""Teachers for collection: the scripted reference policy, or a trained PPO checkpoint
-(docs/reference.md §8a)."""
+"""Teachers for collection: the scripted reference policy, or a trained PPO checkpoint."""
 
 from __future__ import annotations
 

@@ -1,9 +1,9 @@
 """From action chunks to one action per step: CogACT's adaptive ensemble, or a fixed chunk element.
 
-The policy is queried every control step (docs/reference.md §9). With the ensemble (`action_index=-1`), the
+The policy is queried every control step, as in the reference. With the ensemble (`action_index=-1`), the
 chunk predicted j steps ago contributes its row j (its prediction for the current step); the newest chunk's
 row 0 is the reference, each candidate is weighted by exp(alpha * cos(candidate, reference)), and the weights
-are normalised (docs/reference.md §11). Chunks too short to reach the current step drop out, so a chunk of 1
+are normalised. Chunks too short to reach the current step drop out, so a chunk of 1
 (a privileged teacher) reduces to executing it. With `action_index=k >= 0` the newest chunk's row k is
 executed instead.
 """

@@ -69,7 +69,7 @@ def eval_cfg_from_hydra(cfg: DictConfig) -> EvalCfg:
     plain.pop("hydra", None)
     task = plain.pop("task")
     env = env_cfg_from_hydra(OmegaConf.create({"env": plain.pop("env"), "task": task}))
-    env.reset.recording = True  # realistic scenes, as the dataset was recorded (docs/reference.md §8b)
+    env.reset.recording = True  # realistic scenes, as the dataset was recorded
     out: EvalCfg = OmegaConf.to_object(
         OmegaConf.merge(OmegaConf.structured(EvalCfg), {**plain, "robot": task["robot"]})
     )

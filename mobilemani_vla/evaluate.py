@@ -1,4 +1,4 @@
-"""Closed-loop evaluation of any policy on MobileManiBench (paper §4, docs/reference.md §9).
+"""Closed-loop evaluation of any policy on MobileManiBench (docs/reference.md, "VLA evaluation").
 
   python -m mobilemani_vla.evaluate robot=g1 policy.checkpoint=outputs/vla/g1/default/tiny/checkpoints/step_X
   python -m mobilemani_vla.evaluate eval/policy=scripted eval/protocol=ablation eval/split=seen_unseen
