@@ -1,5 +1,4 @@
-"""Differential IK tracking, whole-body base motion, and reset sampling ranges
-(docs/reference.md §2c, §3, §6)."""
+"""Differential IK tracking, whole-body base motion, and reset sampling ranges."""
 
 import numpy as np
 import pytest

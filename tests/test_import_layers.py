@@ -1,5 +1,5 @@
-"""Import directions between and inside the packages (docs: DESIGN.md, issue 18), read from the sources with
-`ast`, so nothing is imported and imports inside functions count as much as those at the top."""
+"""Import directions between and inside the packages (a layer never imports those built on it), read from the
+sources with `ast`, so nothing is imported and imports inside functions count as much as those at the top."""
 
 import ast
 from pathlib import Path

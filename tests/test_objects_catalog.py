@@ -12,7 +12,7 @@ from mobilemani_rl.assets.objects import CATALOG, SPLITS, catalog_ids, check_ski
 from mobilemani_rl.assets.objects.catalog import make_object
 from mobilemani_rl.registry import UnknownNameError
 
-EXPECTED = {  # docs/reference.md §6f: train + test per category
+EXPECTED = {  # train + test per category (docs/reference.md, "Per-category constants")
     "box": (10, 4),
     "toilet": (25, 5),
     "laptop": (30, 6),

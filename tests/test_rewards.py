@@ -1,4 +1,4 @@
-"""Each reward term, the grasp flag and success on hand-constructed states (docs/reference.md §5)."""
+"""Each reward term, the grasp flag and success on hand-constructed states."""
 
 import numpy as np
 import pytest
