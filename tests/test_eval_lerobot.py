@@ -159,13 +159,14 @@ def smolvla_dir(tmp_path_factory) -> Path:
         *("--num_workers=0", "--batch_size=2", "--steps=1", "--save_freq=1", "--wandb.enable=false"),
         f"--output_dir={root / 'train'}",
     ]
-    subprocess.run(
+    done = subprocess.run(
         [sys.executable, "-m", "mobilemani_vla.lerobot_train", *flags, *run],
         cwd=REPO,
         env={**os.environ, "HF_HUB_OFFLINE": "1", "WANDB_MODE": "disabled"},
-        check=True,
         capture_output=True,
+        text=True,
     )
+    assert done.returncode == 0, done.stderr[-3000:]  # lerobot-train's traceback, not just its exit code
     return root / "train" / "checkpoints" / "last" / "pretrained_model"
 
 
