@@ -122,7 +122,7 @@ recipe: setup
 
 # A stock LeRobot policy on a MobileManiDataset, unmodified: lerobot-train, then the same closed-loop protocol as
 # MobileManiVLA (results land beside it, so `make tables` shows both). Pretrained backbones stay off (no downloads):
-#   make lerobot [LEROBOT_POLICY=act|diffusion LEROBOT_DATA=runs/recipe/open/data/lerobot LEROBOT_STEPS=2000
+#   make lerobot [LEROBOT_POLICY=act|diffusion|smolvla LEROBOT_DATA=runs/recipe/open/data/lerobot LEROBOT_STEPS=2000
 #                 PROTOCOL=recipe EVAL_ARGS="output_dir=runs/recipe/eval"]
 LEROBOT_POLICY ?= act
 LEROBOT_DATA ?= data/$(ROBOT)/lerobot
@@ -136,12 +136,20 @@ LEROBOT_ARGS ?=
 LEROBOT_FLAGS_act = --policy.pretrained_backbone_weights=null --policy.chunk_size=16 --policy.n_action_steps=16
 LEROBOT_FLAGS_diffusion = --policy.pretrained_backbone_weights=null --policy.n_obs_steps=1 --policy.horizon=16 \
 	--policy.n_action_steps=8 --policy.crop_shape=null --policy.down_dims=[128,256,512] --policy.num_inference_steps=10
+# SmolVLA is trained whole from scratch (VLM and action expert): its SmolVLM backbone is an untrained local directory
+# (config and byte-level tokenizer, `python -m mobilemani_vla.smolvla_backbone`, written once, before training; its
+# checkpoints name it, so keep it where it is). 7 M parameters, 128 px images; 5-10 s per step of 16 here.
+SMOLVLM ?= $(abspath runs/lerobot/smolvlm)
+LEROBOT_FLAGS_smolvla = --policy.vlm_model_name=$(SMOLVLM) --policy.load_vlm_weights=false \
+	--policy.resize_imgs_with_padding=[128,128] --policy.train_expert_only=false --policy.freeze_vision_encoder=false \
+	--policy.chunk_size=16 --policy.n_action_steps=16
 LEROBOT_LAST = $(LEROBOT_OUT)/checkpoints/last
 LEROBOT_TRAIN = HF_HUB_OFFLINE=1 $(PY) -m mobilemani_vla.lerobot_train
 # A finished run is skipped; an interrupted one resumes from its last checkpoint (saved every quarter of the steps);
 # one interrupted before its first checkpoint has nothing to resume and starts again.
 .PHONY: lerobot
 lerobot: setup
+	$(if $(filter smolvla,$(LEROBOT_POLICY)),test -f $(SMOLVLM)/config.json || $(PY) -m mobilemani_vla.smolvla_backbone $(SMOLVLM))
 	@step=$$($(PY) -c "import json; print(json.load(open('$(LEROBOT_LAST)/training_state/training_step.json'))['step'])" \
 		2>/dev/null || echo none); \
 	if [ "$$step" = "$(LEROBOT_STEPS)" ]; then echo "$(LEROBOT_OUT): trained $$step steps already"; \

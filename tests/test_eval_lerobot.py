@@ -1,10 +1,14 @@
-"""A LeRobot ACT policy built for our dataset, saved and loaded back with LeRobot's API,
-runs through the harness."""
+"""LeRobot policies (ACT, Diffusion Policy, SmolVLA) built for our dataset, saved and loaded back with
+LeRobot's API, run through the harness."""
 
+import os
+import subprocess
+import sys
 from pathlib import Path
 
 import numpy as np
 import pytest
+import torch
 
 from mobilemani_data import schema
 from mobilemani_rl.envs.config import EnvCfg, TaskCfg
@@ -12,9 +16,11 @@ from mobilemani_rl.envs.mobilemani_env import MobileManiEnv
 from mobilemani_vla.ensemble import EnsembleCfg
 from mobilemani_vla.harness import run_batch
 from mobilemani_vla.policies.lerobot import LeRobotEvalPolicy
+from mobilemani_vla.smolvla_backbone import write_smolvlm_backbone
 from mobilemani_vla.synthetic import write_synthetic_dataset
 
 HEAD_RGB = schema.image_key("head", "rgb")
+REPO = Path(__file__).resolve().parents[1]
 
 
 def save_tiny_act(dataset_root: Path, out: Path) -> Path:
@@ -126,3 +132,73 @@ def test_lerobot_act_policy_runs_through_the_harness(act_dir):
 def test_lerobot_features_can_be_renamed(act_dir):
     policy = LeRobotEvalPolicy(act_dir, rename={schema.image_key("wrist", "rgb"): HEAD_RGB})
     assert schema.image_key("wrist", "rgb") in policy.inputs and HEAD_RGB not in policy.inputs
+
+
+@pytest.fixture(scope="module")
+def smolvla_dir(tmp_path_factory) -> Path:
+    """`make lerobot LEROBOT_POLICY=smolvla` at test size: a local untrained SmolVLM backbone, then one
+    `lerobot-train` step of SmolVLA on it (no download), leaving LeRobot's pretrained_model."""
+    root = tmp_path_factory.mktemp("smolvla")
+    data = write_synthetic_dataset(root / "data", episodes=1, length=20)
+    backbone = write_smolvlm_backbone(
+        root / "smolvlm", hidden_size=64, num_layers=2, vision_hidden_size=32, vision_layers=1, image_size=64
+    )
+    flags = [
+        f"--policy.vlm_model_name={backbone}",
+        "--policy.load_vlm_weights=false",
+        "--policy.resize_imgs_with_padding=[64,64]",
+        "--policy.train_expert_only=false",
+        "--policy.freeze_vision_encoder=false",
+        "--policy.chunk_size=16",
+        "--policy.n_action_steps=16",
+        "--policy.num_steps=2",
+    ]
+    run = [
+        *("--policy.type=smolvla", "--policy.device=cpu", "--policy.push_to_hub=false"),
+        *("--dataset.repo_id=synthetic/g1", f"--dataset.root={data}", "--dataset.video_backend=pyav"),
+        *("--num_workers=0", "--batch_size=2", "--steps=1", "--save_freq=1", "--wandb.enable=false"),
+        f"--output_dir={root / 'train'}",
+    ]
+    done = subprocess.run(
+        [sys.executable, "-m", "mobilemani_vla.lerobot_train", *flags, *run],
+        cwd=REPO,
+        env={**os.environ, "HF_HUB_OFFLINE": "1", "WANDB_MODE": "disabled"},
+        capture_output=True,
+        text=True,
+    )
+    assert done.returncode == 0, done.stderr[-3000:]  # lerobot-train's traceback, not just its exit code
+    return root / "train" / "checkpoints" / "last" / "pretrained_model"
+
+
+def test_lerobot_smolvla_trained_offline_runs_through_the_harness(smolvla_dir):
+    policy = LeRobotEvalPolicy(smolvla_dir)
+    assert policy.name == "lerobot_smolvla" and policy.windowed and policy.image_size == (48, 64)
+    assert {HEAD_RGB, schema.STATE, "task"} <= policy.inputs and policy.action_dim == 7
+    env = MobileManiEnv(
+        EnvCfg(num_envs=2, seed=0, episode_length=6, task=TaskCfg(object="test/box", skill="open"))
+    )
+    stats = run_batch(env, policy, 0, "open box", EnsembleCfg(), image_size=policy.image_size)
+    assert stats.length.max() <= 6 and stats.success.shape == (2,)
+    rng = np.random.default_rng(0)
+    obs = {k: rng.integers(0, 255, (3, 48, 64, 3), np.uint8) for k in policy.inputs if "images" in k}
+    obs |= {
+        schema.STATE: np.zeros((3, schema.state_dim(1)), np.float32),
+        "task": ["open box"] * 3,
+        "active": np.array([True, False, True]),
+    }
+    torch.manual_seed(0)
+    chunks = policy.act(obs)
+    assert chunks.shape == (3, 16, 7) and np.all(chunks[1] == 0) and np.all(np.isfinite(chunks))
+    # The instruction reaches the VLM (tokenized by the local backbone's tokenizer): same noise, other chunks.
+    torch.manual_seed(0)
+    other = policy.act(obs | {"task": ["close drawer"] * 3})
+    assert not np.allclose(chunks[0], other[0])
+
+
+def test_lerobot_smolvla_needs_its_backbone_directory(smolvla_dir, tmp_path):
+    import json
+
+    config = json.loads((smolvla_dir / "config.json").read_text())
+    (tmp_path / "config.json").write_text(json.dumps(config | {"vlm_model_name": str(tmp_path / "gone")}))
+    with pytest.raises(FileNotFoundError, match="backbone directory"):
+        LeRobotEvalPolicy(tmp_path)

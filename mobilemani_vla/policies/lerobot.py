@@ -7,7 +7,10 @@ feature names (optionally renamed, as with `lerobot-train --rename_map`); images
 shape. It predicts the dataset's `action` (base frame), one chunk per call (`predict_action_chunk`); the
 harness executes the chunks through the adaptive ensemble (default) or takes one fixed element of the newest
 (`ensemble.action_index=0`). Policies that stack several observation steps (diffusion with n_obs_steps > 1)
-need an observation history and are not supported.
+need an observation history and are not supported. Language-conditioned policies (SmolVLA, pi0) get the
+instruction as LeRobot's `task` string, which their pre-processor tokenizes; a SmolVLA trained without
+downloads reads its VLM config and tokenizer from the local directory it was trained with
+(`mobilemani_vla.smolvla_backbone`).
 """
 
 from __future__ import annotations
@@ -43,6 +46,14 @@ class LeRobotEvalPolicy(EvalPolicy):
             )
         config = PreTrainedConfig.from_pretrained(path)
         config.device = device
+        backbone = getattr(config, "vlm_model_name", None)
+        # A local backbone directory (SmolVLA without downloads) must still be where training left it;
+        # transformers would otherwise take the path for a hub id and fail with an unrelated message.
+        if backbone and Path(backbone).is_absolute() and not Path(backbone).is_dir():
+            raise FileNotFoundError(
+                f"{config.type}'s VLM backbone directory {backbone} (config and tokenizer) is missing; write "
+                "it again with `python -m mobilemani_vla.smolvla_backbone` and the sizes it was trained with"
+            )
         if getattr(config, "n_obs_steps", 1) != 1:
             raise ValueError(
                 f"{config.type} stacks {config.n_obs_steps} observation steps; only single-step "
