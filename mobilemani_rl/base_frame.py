@@ -32,31 +32,25 @@ def pose_to_base(
     return np.concatenate((points_to_base(pos, base_pos, base_quat), euler_from_quat(local)), axis=-1)
 
 
+def _rotate_action(action: np.ndarray, q: np.ndarray, convention: Convention) -> np.ndarray:
+    """The translation rotated by q; the rotation delta left-multiplied by q ("reference") or conjugated."""
+    out = np.array(action, dtype=np.float64, copy=True)
+    out[..., 0:3] = quat_apply(q, action[..., 0:3])
+    rotation = quat_mul(q, quat_from_euler(action[..., 3:6]))
+    if convention != "reference":
+        rotation = quat_mul(rotation, quat_conj(q))
+    out[..., 3:6] = euler_from_quat(rotation)
+    return out
+
+
 def action_to_base(
     action: np.ndarray, base_quat: np.ndarray, convention: Convention = "conjugate"
 ) -> np.ndarray:
-    inverse = quat_conj(base_quat)
-    out = np.array(action, dtype=np.float64, copy=True)
-    out[..., 0:3] = quat_apply(inverse, action[..., 0:3])
-    rotation = quat_from_euler(action[..., 3:6])
-    if convention == "reference":
-        local = quat_mul(inverse, rotation)
-    else:
-        local = quat_mul(quat_mul(inverse, rotation), base_quat)
-    out[..., 3:6] = euler_from_quat(local)
-    return out
+    return _rotate_action(action, quat_conj(base_quat), convention)
 
 
 def action_to_world(
     action: np.ndarray, base_quat: np.ndarray, convention: Convention = "conjugate"
 ) -> np.ndarray:
     """Inverse of `action_to_base` (the env's VLA mode decodes base-frame actions this way)."""
-    out = np.array(action, dtype=np.float64, copy=True)
-    out[..., 0:3] = quat_apply(base_quat, action[..., 0:3])
-    local = quat_from_euler(action[..., 3:6])
-    if convention == "reference":
-        world = quat_mul(base_quat, local)
-    else:
-        world = quat_mul(quat_mul(base_quat, local), quat_conj(base_quat))
-    out[..., 3:6] = euler_from_quat(world)
-    return out
+    return _rotate_action(action, base_quat, convention)

@@ -101,6 +101,14 @@ def bench_task(robot: str, num_envs: int, seconds: float, obj: str = "test/box",
     }
 
 
+def print_report(benchmark: str, results: list[dict], header: str, row: str) -> None:
+    """A table (`row` formatted with each result's keys under `header`), then the results as JSON."""
+    print(header)
+    for r in results:
+        print(row.format(**r))
+    print(json.dumps({"benchmark": benchmark, "results": results}, indent=2))
+
+
 def main(argv: list[str] | None = None) -> list[dict]:
     parser = argparse.ArgumentParser(
         description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter
@@ -110,13 +118,12 @@ def main(argv: list[str] | None = None) -> list[dict]:
     parser.add_argument("--seconds", type=float, default=6.0, help="timing budget per (robot, envs) pair")
     args = parser.parse_args(argv)
     results = [bench_task(r, n, args.seconds) for r in args.robots for n in args.envs]
-    print(f"{'robot':6} {'envs':>5} {'env steps/s':>12} {'raw steps/s':>12} {'env/raw':>8}")
-    for r in results:
-        print(
-            f"{r['robot']:6} {r['num_envs']:5d} {r['env_steps_per_s']:12d} {r['raw_steps_per_s']:12d} "
-            f"{r['env_over_raw']:8.2f}"
-        )
-    print(json.dumps({"benchmark": "sim", "results": results}, indent=2))
+    print_report(
+        "sim",
+        results,
+        f"{'robot':6} {'envs':>5} {'env steps/s':>12} {'raw steps/s':>12} {'env/raw':>8}",
+        "{robot:6} {num_envs:5d} {env_steps_per_s:12d} {raw_steps_per_s:12d} {env_over_raw:8.2f}",
+    )
     return results
 
 

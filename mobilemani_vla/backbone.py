@@ -8,6 +8,7 @@ Prompts are left-padded, which keeps the cognition token at position -1 of every
 
 from __future__ import annotations
 
+from dataclasses import asdict
 from pathlib import Path
 
 import torch
@@ -20,27 +21,10 @@ from mobilemani_vla.config import ModelCfg
 
 def paligemma_config(cfg: ModelCfg) -> PaliGemmaConfig:
     """The backbone architecture described by a model config (no weights)."""
-    v, t = cfg.vision, cfg.text
-    vision = SiglipVisionConfig(
-        hidden_size=v.hidden_size,
-        intermediate_size=v.intermediate_size,
-        num_hidden_layers=v.num_hidden_layers,
-        num_attention_heads=v.num_attention_heads,
-        image_size=v.image_size,
-        patch_size=v.patch_size,
-        vision_use_head=False,
-    )
-    text = Gemma2Config(
-        vocab_size=t.vocab_size,
-        hidden_size=t.hidden_size,
-        intermediate_size=t.intermediate_size,
-        num_hidden_layers=t.num_hidden_layers,
-        num_attention_heads=t.num_attention_heads,
-        num_key_value_heads=t.num_key_value_heads,
-        head_dim=t.head_dim,
-        sliding_window=t.sliding_window,
-        query_pre_attn_scalar=t.query_pre_attn_scalar,
-    )
+    # VisionCfg and TextCfg name their fields as these configs' arguments.
+    t = cfg.text
+    vision = SiglipVisionConfig(**asdict(cfg.vision), vision_use_head=False)
+    text = Gemma2Config(**asdict(t))
     # The image token id sits just past the text vocabulary, as in PaliGemma-2 (we never embed it).
     config = PaliGemmaConfig(
         vision_config=vision,

@@ -17,6 +17,7 @@ import argparse
 from pathlib import Path
 
 import numpy as np
+from matplotlib.axes import Axes
 from matplotlib.figure import Figure  # the object API: no pyplot backend to select, nothing global changed
 
 from mobilemani_rl.assets.objects import CATEGORIES, catalog_ids
@@ -225,6 +226,27 @@ def model_table(results: dict) -> Table:
     )
 
 
+def _robot_bars(
+    ax: Axes, x: np.ndarray, k: int, robot: str, ours: list[float | None], paper: list[float | None]
+) -> None:
+    """Robot k's two bars at each x: ours (fractions) solid, the paper's (percent) faded; None: a gap."""
+    ax.bar(
+        x + (2 * k - 1.5) * 0.2,
+        [np.nan if v is None else 100 * v for v in ours],
+        0.2,
+        label=f"{robot} (ours)",
+        color=COLORS[robot],
+    )
+    ax.bar(
+        x + (2 * k - 0.5) * 0.2,
+        [np.nan if v is None else v for v in paper],
+        0.2,
+        label=f"{robot} (paper)",
+        color=COLORS[robot],
+        alpha=0.35,
+    )
+
+
 def bar_plots(results: dict, run: str, out: Path) -> list[Path]:
     """Per-category success (ours vs paper, G1 and XHand) for both skill groups, and per-skill success."""
     paths = []
@@ -235,21 +257,7 @@ def bar_plots(results: dict, run: str, out: Path) -> list[Path]:
         for k, robot in enumerate(ROBOTS):
             ours = [category_rates(results, run, c)[2 * g + k] for c in CATEGORIES]
             paper = [PAPER_BY_CATEGORY[c][2 * g + k] for c in CATEGORIES]
-            ax.bar(
-                x + (2 * k - 1.5) * 0.2,
-                [np.nan if v is None else 100 * v for v in ours],
-                0.2,
-                label=f"{robot} (ours)",
-                color=COLORS[robot],
-            )
-            ax.bar(
-                x + (2 * k - 0.5) * 0.2,
-                [np.nan if v is None else v for v in paper],
-                0.2,
-                label=f"{robot} (paper)",
-                color=COLORS[robot],
-                alpha=0.35,
-            )
+            _robot_bars(ax, x, k, robot, ours, paper)
         ax.set_title(f"{group}: success per category ({run}, unseen objects x unseen scenes)")
         ax.set_xticks(
             x, [c.replace("_", " ") for c in CATEGORIES], rotation=30, ha="right", rotation_mode="anchor"
@@ -266,21 +274,7 @@ def bar_plots(results: dict, run: str, out: Path) -> list[Path]:
     x = np.arange(len(SKILLS))
     for k, robot in enumerate(ROBOTS):
         ours = [rate(results.get((robot, run, PROTOCOL_SPLIT)), "per_skill", s) for s in SKILLS]
-        ax.bar(
-            x + (2 * k - 1.5) * 0.2,
-            [np.nan if v is None else 100 * v for v in ours],
-            0.2,
-            label=f"{robot} (ours)",
-            color=COLORS[robot],
-        )
-        ax.bar(
-            x + (2 * k - 0.5) * 0.2,
-            [PAPER_BY_SKILL[s][k] for s in SKILLS],
-            0.2,
-            label=f"{robot} (paper)",
-            color=COLORS[robot],
-            alpha=0.35,
-        )
+        _robot_bars(ax, x, k, robot, ours, [PAPER_BY_SKILL[s][k] for s in SKILLS])
     ax.set_xticks(x, SKILLS)
     ax.set_ylabel("success (%)")
     ax.set_ylim(0, 110)

@@ -15,6 +15,7 @@ import json
 import subprocess
 import sys
 import tempfile
+from collections.abc import Callable
 from pathlib import Path
 
 
@@ -40,49 +41,54 @@ def run(module: str, args: list[str], json_file: Path | None = None) -> dict:
     return max(_json_objects(done.stdout), key=lambda d: len(json.dumps(d)))
 
 
+# Per benchmark: the headline's name and one result's (case, figure, raw limit, ratio).
+HEADLINES: tuple[tuple[str, str, Callable[[dict], tuple[str, str, str, str]]], ...] = (
+    (
+        "sim",
+        "sim env steps/s",
+        lambda r: (
+            f"{r['robot']} x{r['num_envs']}",
+            str(r["env_steps_per_s"]),
+            str(r["raw_steps_per_s"]),
+            f"{r['env_over_raw']:.2f}",
+        ),
+    ),
+    (
+        "render",
+        "render frames/s (2 cam x RGB+D+S)",
+        lambda r: (
+            f"{r['size']}px",
+            f"{r['frames_per_s']:.1f}",
+            f"{r['raw_rgb_renders_per_s']:.1f}",
+            f"{r['ratio_frame_vs_raw']:.2f}",
+        ),
+    ),
+    (
+        "ppo",
+        "PPO samples/s",
+        lambda r: (
+            f"{r['preset']} {r['robot']}",
+            str(r["samples_per_s"]),
+            str(r["raw_env_steps_per_s"]),
+            f"{r['ppo_over_raw']:.3f}",
+        ),
+    ),
+    (
+        "export",
+        "export frames/s (render+encode)",
+        lambda r: (
+            f"{r['size']}px, {r['episode_mb']} MB/episode",
+            f"{r['frames_per_s']:.1f}",
+            "-",
+            f"render share {r['render_share']:.2f}",
+        ),
+    ),
+)
+
+
 def headline_rows(report: dict) -> list[tuple[str, str, str, str, str]]:
     """(benchmark, case, figure, raw limit, ratio) rows."""
-    rows = []
-    for r in report["sim"]["results"]:
-        rows.append(
-            (
-                "sim env steps/s",
-                f"{r['robot']} x{r['num_envs']}",
-                str(r["env_steps_per_s"]),
-                str(r["raw_steps_per_s"]),
-                f"{r['env_over_raw']:.2f}",
-            )
-        )
-    for r in report["render"]["results"]:
-        rows.append(
-            (
-                "render frames/s (2 cam x RGB+D+S)",
-                f"{r['size']}px",
-                f"{r['frames_per_s']:.1f}",
-                f"{r['raw_rgb_renders_per_s']:.1f}",
-                f"{r['ratio_frame_vs_raw']:.2f}",
-            )
-        )
-    for r in report["ppo"]["results"]:
-        rows.append(
-            (
-                "PPO samples/s",
-                f"{r['preset']} {r['robot']}",
-                str(r["samples_per_s"]),
-                str(r["raw_env_steps_per_s"]),
-                f"{r['ppo_over_raw']:.3f}",
-            )
-        )
-    for r in report["export"]["results"]:
-        rows.append(
-            (
-                "export frames/s (render+encode)",
-                f"{r['size']}px, {r['episode_mb']} MB/episode",
-                f"{r['frames_per_s']:.1f}",
-                "-",
-                f"render share {r['render_share']:.2f}",
-            )
-        )
+    rows = [(name, *cells(r)) for key, name, cells in HEADLINES for r in report[key]["results"]]
     for r in report["vla"]["cpu"]:
         rows.append(("VLA train samples/s", r["model"], f"{r['train_samples_per_s']:.2f}", "-", "-"))
         rows.append(("VLA s per chunk (10 DDIM)", r["model"], f"{r['infer_s_per_chunk']:.3f}", "-", "-"))
@@ -118,12 +124,9 @@ def main() -> None:
         }
     args.out.parent.mkdir(parents=True, exist_ok=True)
     args.out.write_text(json.dumps(report, indent=2))
-    rows = headline_rows(report)
-    widths = [
-        max(len(r[i]) for r in rows + [("benchmark", "case", "figure", "raw limit", "ratio")])
-        for i in range(5)
-    ]
-    for row in [("benchmark", "case", "figure", "raw limit", "ratio"), *rows]:
+    rows = [("benchmark", "case", "figure", "raw limit", "ratio"), *headline_rows(report)]
+    widths = [max(len(r[i]) for r in rows) for i in range(5)]
+    for row in rows:
         print("  ".join(cell.ljust(w) for cell, w in zip(row, widths, strict=True)))
     print(f"wrote {args.out}")
 

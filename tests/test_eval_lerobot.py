@@ -23,68 +23,70 @@ HEAD_RGB = schema.image_key("head", "rgb")
 REPO = Path(__file__).resolve().parents[1]
 
 
-def save_tiny_act(dataset_root: Path, out: Path) -> Path:
-    """What `lerobot-train --policy.type=act --policy.pretrained_backbone_weights=null` leaves in
-    pretrained_model, built directly (and untrained): config, weights,
-    and the pre/post-processors with the dataset's statistics."""
+def save_tiny_policy(
+    dataset_root: Path, out: Path, config_cls: type, policy_cls: type, **config: object
+) -> Path:
+    """What lerobot-train leaves in pretrained_model, built directly (and untrained) for the head camera and
+    the state: config, weights, and the pre/post-processors with the dataset's statistics."""
     from lerobot.datasets.dataset_metadata import LeRobotDatasetMetadata
-    from lerobot.policies.act.configuration_act import ACTConfig
-    from lerobot.policies.act.modeling_act import ACTPolicy
     from lerobot.policies.factory import make_pre_post_processors
     from lerobot.utils.feature_utils import dataset_to_policy_features
 
     meta = LeRobotDatasetMetadata("synthetic/g1", root=dataset_root)
     features = dataset_to_policy_features(meta.features)
-    inputs = {k: features[k] for k in (HEAD_RGB, schema.STATE)}
-    config = ACTConfig(
-        input_features=inputs,
+    policy_config = config_cls(
+        input_features={k: features[k] for k in (HEAD_RGB, schema.STATE)},
         output_features={schema.ACTION: features[schema.ACTION]},
+        pretrained_backbone_weights=None,
+        device="cpu",
+        **config,
+    )
+    policy = policy_cls(policy_config)
+    pre, post = make_pre_post_processors(policy_config, dataset_stats=meta.stats)
+    for part in (policy, pre, post):
+        part.save_pretrained(out)
+    return out
+
+
+def save_tiny_act(dataset_root: Path, out: Path) -> Path:
+    """`lerobot-train --policy.type=act --policy.pretrained_backbone_weights=null`, at test size."""
+    from lerobot.policies.act.configuration_act import ACTConfig
+    from lerobot.policies.act.modeling_act import ACTPolicy
+
+    return save_tiny_policy(
+        dataset_root,
+        out,
+        ACTConfig,
+        ACTPolicy,
         chunk_size=16,
         n_action_steps=16,
-        pretrained_backbone_weights=None,
         dim_model=32,
         n_heads=2,
         dim_feedforward=64,
         n_encoder_layers=1,
         n_decoder_layers=1,
         latent_dim=8,
-        device="cpu",
     )
-    policy = ACTPolicy(config)
-    pre, post = make_pre_post_processors(config, dataset_stats=meta.stats)
-    for part in (policy, pre, post):
-        part.save_pretrained(out)
-    return out
 
 
 def save_tiny_diffusion(dataset_root: Path, out: Path) -> Path:
-    """What `make lerobot LEROBOT_POLICY=diffusion` trains, at test size and untrained: a policy that was fed
-    observation windows (of one step) in training."""
-    from lerobot.datasets.dataset_metadata import LeRobotDatasetMetadata
+    """What `make lerobot LEROBOT_POLICY=diffusion` trains, at test size: a policy that was fed observation
+    windows (of one step) in training."""
     from lerobot.policies.diffusion.configuration_diffusion import DiffusionConfig
     from lerobot.policies.diffusion.modeling_diffusion import DiffusionPolicy
-    from lerobot.policies.factory import make_pre_post_processors
-    from lerobot.utils.feature_utils import dataset_to_policy_features
 
-    meta = LeRobotDatasetMetadata("synthetic/g1", root=dataset_root)
-    features = dataset_to_policy_features(meta.features)
-    config = DiffusionConfig(
-        input_features={k: features[k] for k in (HEAD_RGB, schema.STATE)},
-        output_features={schema.ACTION: features[schema.ACTION]},
+    return save_tiny_policy(
+        dataset_root,
+        out,
+        DiffusionConfig,
+        DiffusionPolicy,
         n_obs_steps=1,
         horizon=16,
         n_action_steps=8,
         crop_shape=None,
-        pretrained_backbone_weights=None,
         down_dims=(16, 32),
         num_inference_steps=2,
-        device="cpu",
     )
-    policy = DiffusionPolicy(config)
-    pre, post = make_pre_post_processors(config, dataset_stats=meta.stats)
-    for part in (policy, pre, post):
-        part.save_pretrained(out)
-    return out
 
 
 def test_lerobot_diffusion_policy_gets_one_step_observation_windows(tmp_path):

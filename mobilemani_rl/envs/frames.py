@@ -14,20 +14,14 @@ from mobilemani_rl.rotations import cross
 class SimView:
     """Live (nsim, ...) numpy views of the batch fields the environment reads and writes."""
 
+    # Each becomes an attribute of the same name: a live view, so writes reach the batch.
+    FIELDS = tuple(
+        "qpos qvel ctrl mocap_pos mocap_quat qacc xpos xquat site_xpos cvel xanchor xaxis subtree_com".split()
+    )
+
     def __init__(self, batch: mujoco.batch.Batch, model: mujoco.MjModel) -> None:
-        self.qpos = batch.bind("qpos")
-        self.qvel = batch.bind("qvel")
-        self.ctrl = batch.bind("ctrl")
-        self.mocap_pos = batch.bind("mocap_pos")
-        self.mocap_quat = batch.bind("mocap_quat")
-        self.qacc = batch.bind("qacc")
-        self.xpos = batch.bind("xpos")
-        self.xquat = batch.bind("xquat")
-        self.site_xpos = batch.bind("site_xpos")
-        self.cvel = batch.bind("cvel")
-        self.xanchor = batch.bind("xanchor")
-        self.xaxis = batch.bind("xaxis")
-        self.subtree_com = batch.bind("subtree_com")
+        for name in self.FIELDS:
+            setattr(self, name, batch.bind(name))
         self.body_rootid = model.body_rootid
         self.site_bodyid = model.site_bodyid
 

@@ -23,8 +23,9 @@ from mobilemani_rl.envs.observations import compute_observation, normalize_to_li
 from mobilemani_rl.envs.resets import sample_episode_start
 from mobilemani_rl.envs.rewards import RewardContext, TaskDistances, grasp_flag, reward_terms, total_reward
 from mobilemani_rl.envs.scene import build_scene
+from mobilemani_rl.envs.terminations import hand_too_far_or_too_fast, time_out_or_held_success
 from mobilemani_rl.registry import check_positive
-from mobilemani_rl.rotations import quat_from_euler, quat_mul, vector_norm
+from mobilemani_rl.rotations import quat_from_euler, quat_mul
 
 # The palm-rotation reach term is on only for these (category, skill) pairs, as in the reference.
 PALM_ROTATION_TASKS = {("holistic", "pick"), ("refrigerator", "open")}
@@ -178,15 +179,10 @@ class MobileManiEnv:
         scfg = self.cfg.success
         dist = self.task_distances = TaskDistances.measure(frames, self.goal_pos)
         # Truncation reads the success counter before this step's success is added, as in the reference.
-        truncated = (self.episode_length_buf >= self.max_episode_length - 1) | (
-            self.success_count >= scfg.hold_steps
+        truncated = time_out_or_held_success(
+            self.episode_length_buf, self.max_episode_length, self.success_count, scfg.hold_steps
         )
-        terminated = (
-            (dist.hand > scfg.max_hand_distance)
-            | (vector_norm(frames.palm_linvel) > scfg.max_speed)
-            | (vector_norm(frames.grasp_linvel) > scfg.max_speed)
-        )
-        terminated &= ~truncated
+        terminated = hand_too_far_or_too_fast(frames, dist, scfg) & ~truncated
         grasped = grasp_flag(dist, scfg)
         success = dist.goal < scfg.threshold
         self.success_count += success

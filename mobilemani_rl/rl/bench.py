@@ -9,14 +9,13 @@ Prints a table and JSON.
 from __future__ import annotations
 
 import argparse
-import json
 import time
 from pathlib import Path
 
 import numpy as np
 from hydra import compose, initialize_config_dir
 
-from mobilemani_rl.bench import interleaved_rates, raw_physics_replay
+from mobilemani_rl.bench import interleaved_rates, print_report, raw_physics_replay
 from mobilemani_rl.rl.factory import build_runner, ppo_cfg_from_hydra
 
 CONF = str(Path(__file__).resolve().parents[2] / "conf")
@@ -57,13 +56,13 @@ def main(argv: list[str] | None = None) -> list[dict]:
     parser.add_argument("--iterations", type=int, default=3)
     args = parser.parse_args(argv)
     results = [bench_preset(p, r, args.iterations) for p in args.presets for r in args.robots]
-    print(f"{'preset':6} {'robot':6} {'envs':>5} {'samples/s':>10} {'raw steps/s':>12} {'ppo/raw':>8}")
-    for r in results:
-        print(
-            f"{r['preset']:6} {r['robot']:6} {r['num_envs']:5d} {r['samples_per_s']:10d} "
-            f"{r['raw_env_steps_per_s']:12d} {r['ppo_over_raw']:8.3f}"
-        )
-    print(json.dumps({"benchmark": "ppo", "results": results}, indent=2))
+    print_report(
+        "ppo",
+        results,
+        f"{'preset':6} {'robot':6} {'envs':>5} {'samples/s':>10} {'raw steps/s':>12} {'ppo/raw':>8}",
+        "{preset:6} {robot:6} {num_envs:5d} {samples_per_s:10d} {raw_env_steps_per_s:12d} "
+        "{ppo_over_raw:8.3f}",
+    )
     return results
 
 

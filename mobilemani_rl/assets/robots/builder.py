@@ -10,6 +10,8 @@ import numpy as np
 from mobilemani_rl.assets.collision import ROBOT_CONTACT
 from mobilemani_rl.rotations import quat_from_matrix
 
+BOX, CAPSULE = mujoco.mjtGeom.mjGEOM_BOX, mujoco.mjtGeom.mjGEOM_CAPSULE
+HINGE, SLIDE = mujoco.mjtJoint.mjJNT_HINGE, mujoco.mjtJoint.mjJNT_SLIDE
 ROBOT_RGBA = (0.85, 0.85, 0.88, 1.0)
 DARK_RGBA = (0.2, 0.2, 0.22, 1.0)
 FINGER_SOLIMP = (0.99, 0.995, 0.001, 0.5, 2.0)
@@ -61,8 +63,9 @@ def add_link(
     return body
 
 
-def add_hinge(
+def add_joint(
     body: mujoco.MjsBody,
+    kind: mujoco.mjtJoint,
     name: str,
     axis: Sequence[float],
     limits: tuple[float, float],
@@ -70,29 +73,10 @@ def add_hinge(
     armature: float,
     damping: float,
 ) -> mujoco.MjsJoint:
+    """A limited hinge or slide joint."""
     return body.add_joint(
         name=name,
-        type=mujoco.mjtJoint.mjJNT_HINGE,
-        axis=list(axis),
-        range=list(limits),
-        limited=mujoco.mjtLimited.mjLIMITED_TRUE,
-        armature=armature,
-        damping=damping,
-    )
-
-
-def add_slide(
-    body: mujoco.MjsBody,
-    name: str,
-    axis: Sequence[float],
-    limits: tuple[float, float],
-    *,
-    armature: float,
-    damping: float,
-) -> mujoco.MjsJoint:
-    return body.add_joint(
-        name=name,
-        type=mujoco.mjtJoint.mjJNT_SLIDE,
+        type=kind,
         axis=list(axis),
         range=list(limits),
         limited=mujoco.mjtLimited.mjLIMITED_TRUE,
@@ -154,23 +138,10 @@ def add_arm(
         zip(links, joints, axes, offsets, limits, strict=True)
     ):
         link = add_link(parent, name, offset)
-        add_hinge(link, joint, axis, limit, armature=0.05, damping=1.0)
-        if index == 2:
-            add_geom(
-                link,
-                mujoco.mjtGeom.mjGEOM_CAPSULE,
-                (0.045,),
-                fromto=(0, 0, -0.03, 0, 0, -upper_arm + 0.03),
-                mass=1.5,
-            )
-        elif index == 4:
-            add_geom(
-                link,
-                mujoco.mjtGeom.mjGEOM_CAPSULE,
-                (0.04,),
-                fromto=(0, 0, -0.03, 0, 0, -forearm + 0.03),
-                mass=1.2,
-            )
+        add_joint(link, HINGE, joint, axis, limit, armature=0.05, damping=1.0)
+        if index in (2, 4):  # upper arm and forearm: a capsule down the segment
+            radius, length, mass = (0.045, upper_arm, 1.5) if index == 2 else (0.04, forearm, 1.2)
+            add_geom(link, CAPSULE, (radius,), fromto=(0, 0, -0.03, 0, 0, -length + 0.03), mass=mass)
         elif index == 6:
             add_geom(
                 link,
@@ -193,7 +164,7 @@ def add_mobile_base(spec: mujoco.MjSpec, base_name: str, slide_limit: float) -> 
     """
     root = spec.worldbody.add_body(name="Root", mocap=True)
     yaw = add_link(root, "basex", (0, 0, 0))
-    add_hinge(yaw, "slider_basex", (0, 0, 1), (-np.pi, np.pi), armature=1.0, damping=5.0)
+    add_joint(yaw, HINGE, "slider_basex", (0, 0, 1), (-np.pi, np.pi), armature=1.0, damping=5.0)
     add_geom(
         yaw,
         mujoco.mjtGeom.mjGEOM_CYLINDER,
@@ -204,7 +175,7 @@ def add_mobile_base(spec: mujoco.MjSpec, base_name: str, slide_limit: float) -> 
         mass=1.0,
     )
     base = add_link(yaw, base_name, (0, 0, 0))
-    add_slide(base, "slider_basey", (0, 1, 0), (-slide_limit, slide_limit), armature=1.0, damping=5.0)
+    add_joint(base, SLIDE, "slider_basey", (0, 1, 0), (-slide_limit, slide_limit), armature=1.0, damping=5.0)
     add_geom(base, mujoco.mjtGeom.mjGEOM_CYLINDER, (0.26, 0.12), pos=(0, 0, 0.15), rgba=DARK_RGBA, mass=20.0)
     add_position_actuator(spec, "slider_basex", kp=3000.0, kv=400.0, force=2000.0, limits=(-np.pi, np.pi))
     add_position_actuator(

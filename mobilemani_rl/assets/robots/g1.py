@@ -13,19 +13,19 @@ import math
 import mujoco
 
 from mobilemani_rl.assets.robots.builder import (
+    BOX,
+    CAPSULE,
     DARK_RGBA,
+    SLIDE,
     add_arm,
     add_camera,
     add_geom,
+    add_joint,
     add_link,
     add_mobile_base,
     add_position_actuator,
-    add_slide,
 )
 from mobilemani_rl.assets.robots.description import RobotDescription
-
-BOX = mujoco.mjtGeom.mjGEOM_BOX
-CAPSULE = mujoco.mjtGeom.mjGEOM_CAPSULE
 
 ARM_JOINTS = tuple(f"idx6{i}_arm_r_joint{i}" for i in range(1, 8))
 GRIPPER_JOINT = "idx81_gripper_r_outer_joint1"
@@ -54,7 +54,7 @@ def _build_gripper(spec: mujoco.MjSpec, wrist: mujoco.MjsBody) -> None:
     ):
         finger = add_link(base, name, (0, 0, 0))
         # Positive joint values open the gripper: each finger slides outward along its side of the x axis.
-        add_slide(finger, joint, (side, 0, 0), (0.0, FINGER_TRAVEL), armature=0.01, damping=20.0)
+        add_joint(finger, SLIDE, joint, (side, 0, 0), (0.0, FINGER_TRAVEL), armature=0.01, damping=20.0)
         add_geom(
             finger,
             BOX,

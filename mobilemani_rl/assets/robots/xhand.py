@@ -17,20 +17,20 @@ import math
 import mujoco
 
 from mobilemani_rl.assets.robots.builder import (
+    BOX,
+    CAPSULE,
     DARK_RGBA,
+    HINGE,
     add_arm,
     add_camera,
     add_geom,
-    add_hinge,
+    add_joint,
     add_link,
     add_mobile_base,
     add_position_actuator,
 )
 from mobilemani_rl.assets.robots.description import RobotDescription
 from mobilemani_rl.assets.robots.g1 import GRIPPER_QUAT, SHOULDER_HEIGHT
-
-BOX = mujoco.mjtGeom.mjGEOM_BOX
-CAPSULE = mujoco.mjtGeom.mjGEOM_CAPSULE
 
 ARM_JOINTS = tuple(f"right_arm_joint{i}" for i in range(1, 8))
 ARM_LIMITS = (
@@ -115,10 +115,14 @@ HAND_QUAT = (math.sqrt(0.5), 0.0, math.sqrt(0.5), 0.0)
 TIP_SITES = tuple(f"{P}{f}_tip" for f in ("pinky", "ring", "mid", "index", "thumb"))
 
 
+def _add_hand_hinge(body: mujoco.MjsBody, joint: str, axis: tuple[float, float, float]) -> None:
+    add_joint(body, HINGE, P + joint, axis, HAND_LIMITS[joint], armature=0.002, damping=0.05)
+
+
 def _add_phalanx(parent: mujoco.MjsBody, link: str, joint: str, pos, length: float) -> mujoco.MjsBody:
     """A link pointing along its local -x, flexing about local +y."""
     body = add_link(parent, P + link, pos)
-    add_hinge(body, P + joint, CURL_AXIS, HAND_LIMITS[joint], armature=0.002, damping=0.05)
+    _add_hand_hinge(body, joint, CURL_AXIS)
     add_geom(
         body,
         CAPSULE,
@@ -168,9 +172,7 @@ def _build_hand(wrist: mujoco.MjsBody) -> None:
         if finger == "index":
             # Abduction about the palm normal, then the flexion chain.
             parent = add_link(hand, P + "index_bend_link", base)
-            add_hinge(
-                parent, P + "index_bend", (0, 0, 1), HAND_LIMITS["index_bend"], armature=0.002, damping=0.05
-            )
+            _add_hand_hinge(parent, "index_bend", (0, 0, 1))
             add_geom(parent, mujoco.mjtGeom.mjGEOM_SPHERE, (0.01,), collide=False, mass=0.01)
             base = (0, 0, 0)
         links = (
@@ -181,7 +183,7 @@ def _build_hand(wrist: mujoco.MjsBody) -> None:
         _add_digit(parent, finger, links, (f"{finger}_joint1", f"{finger}_joint2"), base, PHALANX)
     # Thumb: thumb_bend swings it about the palm normal from along the fingers (-x, at 0) to sideways (+y).
     bend = add_link(hand, P + "thumb_bend_link", THUMB_BASE)
-    add_hinge(bend, P + "thumb_bend", (0, 0, -1), HAND_LIMITS["thumb_bend"], armature=0.002, damping=0.05)
+    _add_hand_hinge(bend, "thumb_bend", (0, 0, -1))
     add_geom(bend, mujoco.mjtGeom.mjGEOM_SPHERE, (0.012,), collide=False, mass=0.01)
     _add_digit(
         bend,

@@ -106,32 +106,28 @@ class Materials:
         return self._material(name, name, per_metre, shininess)
 
     def checker(self, colour1: Colour, colour2: Colour, per_metre: float) -> str:
-        name = self._name("checker")
+        name = self._builtin("checker", mujoco.mjtBuiltin.mjBUILTIN_CHECKER, colour1, colour2)
+        return self._material(name, name, per_metre / 2, 0.3)
+
+    def gradient(self, top: Colour, bottom: Colour, emission: float = 0.0) -> str:
+        """A vertical gradient stretched once over the geom (sky backdrops, pictures)."""
+        name = self._builtin("gradient", mujoco.mjtBuiltin.mjBUILTIN_GRADIENT, top, bottom)
+        material = self.spec.add_material(name=name, textures=["", name], emission=emission)
+        return material.name
+
+    def _builtin(self, kind: str, builtin: mujoco.mjtBuiltin, colour1: Colour, colour2: Colour) -> str:
+        """A MuJoCo builtin two-colour texture; returns its name."""
+        name = self._name(kind)
         self.spec.add_texture(
             name=name,
             type=mujoco.mjtTexture.mjTEXTURE_2D,
-            builtin=mujoco.mjtBuiltin.mjBUILTIN_CHECKER,
+            builtin=builtin,
             rgb1=list(colour1[:3]),
             rgb2=list(colour2[:3]),
             width=SIZE,
             height=SIZE,
         )
-        return self._material(name, name, per_metre / 2, 0.3)
-
-    def gradient(self, top: Colour, bottom: Colour, emission: float = 0.0) -> str:
-        """A vertical gradient stretched once over the geom (sky backdrops, pictures)."""
-        name = self._name("gradient")
-        self.spec.add_texture(
-            name=name,
-            type=mujoco.mjtTexture.mjTEXTURE_2D,
-            builtin=mujoco.mjtBuiltin.mjBUILTIN_GRADIENT,
-            rgb1=list(top[:3]),
-            rgb2=list(bottom[:3]),
-            width=SIZE,
-            height=SIZE,
-        )
-        material = self.spec.add_material(name=name, textures=["", name], emission=emission)
-        return material.name
+        return name
 
     def emissive(self, colour: Colour, emission: float = 0.8) -> str:
         name = self._name("lamp")
