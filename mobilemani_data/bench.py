@@ -18,8 +18,10 @@ import hydra
 from omegaconf import DictConfig
 
 from mobilemani_data.collect import collect
-from mobilemani_data.config import DataCfg, data_cfg_from_hydra
+from mobilemani_data.config import DataCfg
 from mobilemani_data.export import export
+from mobilemani_rl.envs.config import with_env_task
+from mobilemani_rl.schema import to_dataclass
 from mobilemani_rl.tasks import SubsetCfg
 
 BENCH_SUBSET = dict(objects=["dishwasher/0000"], skills=["open"], scenes_per_object=1)
@@ -64,7 +66,7 @@ def run_bench(cfg: DataCfg, workdir: Path) -> dict:
 
 @hydra.main(config_path="../conf", config_name="data", version_base="1.3")
 def main(cfg: DictConfig) -> None:
-    data_cfg = data_cfg_from_hydra(cfg)
+    data_cfg = to_dataclass(with_env_task(cfg), DataCfg).check_counts()
     with tempfile.TemporaryDirectory(prefix="mobilemani_bench_") as tmp:
         report = run_bench(data_cfg, Path(tmp))
     out = Path(data_cfg.bench.out)

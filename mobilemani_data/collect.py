@@ -17,11 +17,13 @@ from omegaconf import DictConfig, OmegaConf
 
 from mobilemani_data import schema
 from mobilemani_data.combos import shard_of, shard_path
-from mobilemani_data.config import DataCfg, data_cfg_from_hydra
+from mobilemani_data.config import DataCfg
 from mobilemani_data.recorder import collect_successes
 from mobilemani_data.shards import is_complete, write_shard
 from mobilemani_data.teachers import TeacherUnavailable, build_teacher
+from mobilemani_rl.envs.config import with_env_task
 from mobilemani_rl.progress import Progress
+from mobilemani_rl.schema import to_dataclass
 from mobilemani_rl.tasks import Combination, select_combinations
 
 
@@ -84,7 +86,7 @@ def collect(cfg: DataCfg) -> list[Path]:
 
 @hydra.main(config_path="../conf", config_name="data", version_base="1.3")
 def main(cfg: DictConfig) -> None:
-    collect(data_cfg_from_hydra(cfg))
+    collect(to_dataclass(with_env_task(cfg), DataCfg).check_counts())
 
 
 if __name__ == "__main__":

@@ -1,18 +1,18 @@
-"""Dataset configuration dataclasses, mirrored by conf/data.yaml and its groups
-(conf/data/subset, conf/data/teacher).
+"""Dataset configuration dataclasses: DataRootCfg is conf/data.yaml's schema, its groups (conf/data/subset,
+conf/data/teacher) change the defaults of SubsetCfg and TeacherCfg.
 
 The env block (conf/env) is the RL env's EnvCfg; collection turns on its recording resets
-(no stage shift or random height; room jitter on).
+(docs/reference.md, "Rooms"). A composed config converts with
+`to_dataclass(with_env_task(cfg), DataCfg).check_counts()`.
 """
 
 from __future__ import annotations
 
 from dataclasses import dataclass, field
 
-from omegaconf import DictConfig, OmegaConf
-
-from mobilemani_rl.envs.config import EnvCfg, env_cfg_from_hydra
+from mobilemani_rl.envs.config import EnvCfg, EnvParamsCfg, RobotChoiceCfg
 from mobilemani_rl.registry import check_positive
+from mobilemani_rl.schema import register_schema
 from mobilemani_rl.tasks import SubsetCfg
 
 
@@ -96,39 +96,30 @@ class DataCfg:
     bench: BenchCfg = field(default_factory=BenchCfg)
     env: EnvCfg = field(default_factory=EnvCfg)
 
+    def check_counts(self) -> DataCfg:
+        """Checked before any stage writes: a zero or negative count would record empty shards marked
+        complete."""
+        check_positive(
+            {
+                "subset.episodes": self.subset.episodes,
+                "subset.scenes_per_object": self.subset.scenes_per_object,
+                "subset.objects_per_category": self.subset.objects_per_category,
+                "collect.num_envs": self.collect.num_envs,
+                "collect.max_steps": self.collect.max_steps,
+                "shard.count": self.shard.count,
+                "export.width": self.export.width,
+                "export.height": self.export.height,
+            }
+        )
+        return self
 
-def data_cfg_from_hydra(cfg: DictConfig) -> DataCfg:
-    """The composed root config (conf/data.yaml) -> DataCfg; unknown keys are errors."""
-    blocks = (
-        "data_dir",
-        "raw_dir",
-        "dataset_dir",
-        "subset",
-        "teacher",
-        "collect",
-        "shard",
-        "export",
-        "validate",
-        "preview",
-        "bench",
-    )
-    plain = OmegaConf.to_container(cfg, resolve=True)
-    merged = OmegaConf.merge(
-        OmegaConf.structured(DataCfg), {"robot": cfg.task.robot, **{k: plain[k] for k in blocks}}
-    )
-    out: DataCfg = OmegaConf.to_object(merged)
-    out.env = env_cfg_from_hydra(OmegaConf.create({"env": plain["env"], "task": {"robot": cfg.task.robot}}))
-    # Checked before any stage writes: a zero or negative count would record empty shards marked complete.
-    check_positive(
-        {
-            "subset.episodes": out.subset.episodes,
-            "subset.scenes_per_object": out.subset.scenes_per_object,
-            "subset.objects_per_category": out.subset.objects_per_category,
-            "collect.num_envs": out.collect.num_envs,
-            "collect.max_steps": out.collect.max_steps,
-            "shard.count": out.shard.count,
-            "export.width": out.export.width,
-            "export.height": out.export.height,
-        }
-    )
-    return out
+
+@dataclass
+class DataRootCfg(DataCfg):
+    """conf/data.yaml's schema: the env block without its task, which the robot group's block makes."""
+
+    env: EnvParamsCfg = field(default_factory=EnvParamsCfg)
+    task: RobotChoiceCfg = field(default_factory=RobotChoiceCfg)
+
+
+register_schema("data_schema", DataRootCfg)

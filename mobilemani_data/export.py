@@ -24,13 +24,15 @@ from lerobot.datasets.lerobot_dataset import LeRobotDataset
 from omegaconf import DictConfig
 
 from mobilemani_data import schema
-from mobilemani_data.config import DataCfg, ExportCfg, data_cfg_from_hydra
+from mobilemani_data.config import DataCfg, ExportCfg
 from mobilemani_data.convert import FIRST_FRAME, camera_images, episode_vectors
 from mobilemani_data.frame import robot_cameras
 from mobilemani_data.replay import Replayer
 from mobilemani_data.shards import Shard, ShardError, read_shard, shard_paths
 from mobilemani_rl.assets.robots import RobotDescription, get_robot
+from mobilemani_rl.envs.config import with_env_task
 from mobilemani_rl.render import CameraRenderCfg, CameraRenderer
+from mobilemani_rl.schema import to_dataclass
 
 PARTIAL = ".partial"
 
@@ -223,7 +225,7 @@ def export(cfg: DataCfg) -> ExportReport:
 
 @hydra.main(config_path="../conf", config_name="data", version_base="1.3")
 def main(cfg: DictConfig) -> None:
-    report = export(data_cfg_from_hydra(cfg))
+    report = export(to_dataclass(with_env_task(cfg), DataCfg).check_counts())
     timing = (
         ""
         if report.reused

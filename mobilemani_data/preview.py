@@ -18,7 +18,9 @@ from lerobot.datasets.lerobot_dataset import LeRobotDataset
 from omegaconf import DictConfig
 
 from mobilemani_data import schema
-from mobilemani_data.config import DataCfg, data_cfg_from_hydra
+from mobilemani_data.config import DataCfg
+from mobilemani_rl.envs.config import with_env_task
+from mobilemani_rl.schema import to_dataclass
 
 
 def tile(frame: dict) -> np.ndarray:
@@ -64,7 +66,7 @@ def write_preview(cfg: DataCfg) -> Path:
 
 @hydra.main(config_path="../conf", config_name="data", version_base="1.3")
 def main(cfg: DictConfig) -> None:
-    print(write_preview(data_cfg_from_hydra(cfg)))
+    print(write_preview(to_dataclass(with_env_task(cfg), DataCfg).check_counts()))
 
 
 if __name__ == "__main__":

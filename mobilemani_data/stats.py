@@ -17,8 +17,10 @@ import hydra
 from omegaconf import DictConfig
 
 from mobilemani_data import schema
-from mobilemani_data.config import data_cfg_from_hydra
+from mobilemani_data.config import DataCfg
 from mobilemani_data.metadata import read_episodes
+from mobilemani_rl.envs.config import with_env_task
+from mobilemani_rl.schema import to_dataclass
 
 GROUPS = ("skill", "category", "split")
 STATS_FILE = "meta/mobilemani_stats.json"
@@ -65,7 +67,7 @@ def markdown(table: dict) -> str:
 
 @hydra.main(config_path="../conf", config_name="data", version_base="1.3")
 def main(cfg: DictConfig) -> None:
-    root = Path(data_cfg_from_hydra(cfg).dataset_dir)
+    root = Path(to_dataclass(with_env_task(cfg), DataCfg).check_counts().dataset_dir)
     table = dataset_stats(read_episodes(root))
     (root / STATS_FILE).write_text(json.dumps(table, indent=2))
     print(json.dumps(table, indent=2))

@@ -20,12 +20,14 @@ from lerobot.datasets.lerobot_dataset import LeRobotDataset
 from omegaconf import DictConfig
 
 from mobilemani_data import schema
-from mobilemani_data.config import DataCfg, ValidateCfg, data_cfg_from_hydra
+from mobilemani_data.config import DataCfg, ValidateCfg
 from mobilemani_data.convert import FIRST_FRAME
 from mobilemani_data.metadata import check_dataset_files, read_episodes, read_export_report
 from mobilemani_data.replay import Replayer
 from mobilemani_data.shards import Shard, ShardError, read_shard, shard_paths
 from mobilemani_rl.assets.robots import get_robot
+from mobilemani_rl.envs.config import with_env_task
+from mobilemani_rl.schema import to_dataclass
 
 
 def read_shards(raw_dir: Path, robot: str) -> tuple[list[Shard], list[str]]:
@@ -131,7 +133,7 @@ def validate(cfg: DataCfg) -> list[str]:
 
 @hydra.main(config_path="../conf", config_name="data", version_base="1.3")
 def main(cfg: DictConfig) -> None:
-    problems = validate(data_cfg_from_hydra(cfg))
+    problems = validate(to_dataclass(with_env_task(cfg), DataCfg).check_counts())
     for problem in problems:
         print(f"PROBLEM {problem}", file=sys.stderr)
     print("valid" if not problems else f"{len(problems)} problems")

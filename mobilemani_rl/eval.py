@@ -22,12 +22,13 @@ import numpy as np
 from omegaconf import DictConfig, OmegaConf
 
 from mobilemani_rl.assets.objects import CATEGORIES, SPLITS, catalog_ids, get_object
-from mobilemani_rl.envs.config import env_cfg_from_hydra
 from mobilemani_rl.envs.mobilemani_env import MobileManiEnv
 from mobilemani_rl.io import write_json_atomic
 from mobilemani_rl.progress import Progress
+from mobilemani_rl.rl.config import EvalRlCfg, RLCfg
 from mobilemani_rl.rl.factory import policy_objects
 from mobilemani_rl.rollout import run_first_episodes
+from mobilemani_rl.schema import to_dataclass
 from mobilemani_rl.teacher import TeacherPolicy, load_teacher, run_config
 from mobilemani_rl.video import HeadCameraRecorder
 
@@ -44,9 +45,10 @@ def evaluate(checkpoint: Path, episodes: int, seed: int, video_episodes: int = 0
     if not checkpoint.is_file():
         raise FileNotFoundError(f"checkpoint {checkpoint} does not exist")
     run_cfg = run_config(checkpoint)
-    env_cfg = env_cfg_from_hydra(run_cfg)
+    run = to_dataclass(run_cfg, RLCfg)
+    env_cfg = run.env_cfg()
     env_cfg.num_envs = episodes
-    trained = set(policy_objects(env_cfg.task.object, run_cfg.objects_per_policy) or [env_cfg.task.object])
+    trained = set(policy_objects(env_cfg.task.object, run.objects_per_policy) or [env_cfg.task.object])
     todo = [
         (split, object_id)
         for split, ids in evaluation_objects(env_cfg.task.object).items()
@@ -92,9 +94,10 @@ def evaluate(checkpoint: Path, episodes: int, seed: int, video_episodes: int = 0
 
 @hydra.main(config_path="../conf", config_name="eval_rl", version_base="1.3")
 def main(cfg: DictConfig) -> None:
-    if cfg.checkpoint is None:
+    run = to_dataclass(cfg, EvalRlCfg)
+    if run.checkpoint is None:
         raise SystemExit("checkpoint=<path to a model_*.pt> is required")
-    result = evaluate(Path(cfg.checkpoint), cfg.episodes, cfg.seed, cfg.video_episodes)
+    result = evaluate(Path(run.checkpoint), run.episodes, run.seed, run.video_episodes)
     print(json.dumps(result, indent=2))
 
 

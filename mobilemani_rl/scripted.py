@@ -17,8 +17,6 @@ lost; a close or push goes on pushing with a hand that slipped off.
 
 from __future__ import annotations
 
-from dataclasses import dataclass
-
 import mujoco
 import numpy as np
 
@@ -34,6 +32,7 @@ from mobilemani_rl.rotations import (
     quat_from_matrix,
     quat_mul,
 )
+from mobilemani_rl.scripted_config import ScriptedPolicyCfg
 
 APPROACH, CLOSE, MOVE = 0, 1, 2
 PULLING_SKILLS = {"open", "pull", "pick"}
@@ -41,76 +40,6 @@ LID_CATEGORIES = {"box", "laptop", "toilet", "trashcan"}  # gripped at a lid's f
 VERTICAL_BAR_CATEGORIES = {"refrigerator"}  # the generators' only vertical handles
 DOWN = np.array([0.0, 0.0, -1.0])
 HAND_X = np.array([1.0, 0.0, 0.0])
-
-
-@dataclass
-class ScriptedPolicyCfg:
-    pos_gain: float = 12.0  # action per metre of error (saturates at 1 = 2.5 cm per step)
-    rot_gain: float = 4.0
-    pregrasp_offset: float = 0.08  # m in front of the grasp point along the approach direction
-    pick_pregrasp_offset: float = 0.15  # above a rigid object's centre of mass: clears tall objects
-    pick_finger_yaw: float | None = (
-        None  # rad left of the robot's heading that a top-down pick's fingers point
-    )
-    pick_grip_shift: float = 0.0  # grip_shift of a top-down pick
-    # A top-down pick descends at most this action (x 2.5 cm per step) while the base slides faster than
-    # base_moving_speed (m/s): the IK makes up for the arm's descent by moving the base forward, which lags.
-    pick_descent_while_moving: float | None = None
-    base_moving_speed: float = 0.05
-    pregrasp_tolerance: float = 0.015
-    pregrasp_alignment: float = 0.985  # cosine between palm and approach directions needed to go in (~10°)
-    grasp_depth: float = (
-        0.0  # m past the grasp point (along the approach direction) where the palm point stops
-    )
-    grip_shift: float = 0.0  # m along the hand frame's +x (the XHand's wrist side) where the palm point stops
-    lid_grip_shift: float = 0.0  # the same at a lid's edge
-    grasp_tolerance: float = 0.012
-    blocked_radius: float = (
-        0.05  # the palm stopped this close to the grasp point (touching the object): close
-    )
-    blocked_speed: float = 0.01  # m/s
-    close_steps: int = 8
-    follow_handle: bool = True  # approach from the grip's free side (else along the grasp direction)
-    approach_from_below: bool = (
-        True  # else a grip facing down (under a dropped door) is approached horizontally
-    )
-    push_lids_shut: bool = False  # close a lid by pushing it with the open hand instead of grasping its edge
-    hooked_lips: tuple[
-        str, ...
-    ] = ()  # categories whose thin lid lip the fingertips hook from in front to open it
-    lip_hook_shift: float = 0.0  # grip_shift of that hook: the palm point stays this far toward the wrist
-    move_follow: float = 1.0  # weight of keeping the palm on the grip's free side while moving
-    move_rotation: float = (
-        0.0  # weight of the reward's palm-rotation target while moving (it fights the grasp)
-    )
-    move_ramp_steps: int = (
-        40  # steps over which a pull speeds up to full: a jerk on a resting link tears the grip off
-    )
-    regrasp_distance: float = (
-        0.06  # m between palm and grip that counts as a lost grip while pulling: approach again
-    )
-    hold_gain: float = 1.0  # weight of keeping the palm where it closed on the link while pulling
-    arc_lead: float = (
-        0.1  # m of arc ahead of a hinged grip that the hand moves toward (0: straight at the goal)
-    )
-
-
-# Per-robot tuning; docs/results/scripted_success.md says why each value is what it is and what it measured.
-ROBOT_CFG = {
-    "g1": ScriptedPolicyCfg(move_follow=0.0, approach_from_below=False),
-    "xhand": ScriptedPolicyCfg(
-        grasp_depth=0.012,
-        close_steps=15,
-        grip_shift=0.02,
-        lid_grip_shift=-0.02,
-        pick_finger_yaw=0.9,
-        pick_grip_shift=0.043,
-        pick_descent_while_moving=0.1,
-        push_lids_shut=True,
-        hooked_lips=("laptop",),
-        lip_hook_shift=0.08,
-    ),
-}
 
 
 def rotate_about(v: np.ndarray, axis: np.ndarray, angle: np.ndarray) -> np.ndarray:
@@ -122,7 +51,7 @@ def rotate_about(v: np.ndarray, axis: np.ndarray, angle: np.ndarray) -> np.ndarr
 class ScriptedPolicy:
     def __init__(self, env: MobileManiEnv, cfg: ScriptedPolicyCfg | None = None) -> None:
         self.env = env
-        self.cfg = cfg or ROBOT_CFG[env.robot.name]
+        self.cfg = cfg or env.robot.scripted
         n = env.num_envs
         self.phase = np.zeros(n, dtype=np.int64)
         self.phase_steps = np.zeros(n, dtype=np.int64)

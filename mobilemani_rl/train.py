@@ -19,7 +19,8 @@ from omegaconf import DictConfig
 
 from mobilemani_rl.eval import evaluate
 from mobilemani_rl.io import write_json_atomic
-from mobilemani_rl.rl.factory import build_runner, ppo_cfg_from_hydra
+from mobilemani_rl.rl.config import RLCfg
+from mobilemani_rl.rl.factory import build_runner
 from mobilemani_rl.rl.run_dir import (
     CURVE,
     RESULT,
@@ -32,6 +33,7 @@ from mobilemani_rl.rl.run_dir import (
 )
 from mobilemani_rl.rl.runner import MobileManiRunner
 from mobilemani_rl.rl.warm_start import warm_start
+from mobilemani_rl.schema import to_dataclass
 
 RUN_KEYS = ("task", "env", "rl")
 
@@ -54,7 +56,7 @@ def train(cfg: DictConfig) -> Path:
     if is_complete(run_dir):
         print(f"{run_dir} is complete ({RESULT} exists); nothing to do")
         return run_dir
-    ppo = ppo_cfg_from_hydra(cfg)
+    ppo = to_dataclass(cfg, RLCfg).rl.ppo
     runner = build_runner(cfg, run_dir)
     wall = time.time()
     start = 0
@@ -111,15 +113,16 @@ def last_measured_success(curve: list[dict]) -> float | None:
 @hydra.main(config_path="../conf", config_name="rl", version_base="1.3")
 def main(cfg: DictConfig) -> None:
     run_dir = train(cfg)
-    if cfg.eval_episodes > 0:
-        result = evaluate(latest_checkpoint(run_dir), cfg.eval_episodes, seed=1000)
+    eval_episodes = to_dataclass(cfg, RLCfg).eval_episodes
+    if eval_episodes > 0:
+        result = evaluate(latest_checkpoint(run_dir), eval_episodes, seed=1000)
         trained = sum(r["trained"] for r in result["objects"].values())
         by_split = ", ".join(
             f"{split} {rate:.3f}" for split, rate in sorted(result["success_by_split"].items())
         )
         print(
             f"{run_dir}: success {result['success_rate']:.3f} on the {trained} trained object(s), "
-            f"{cfg.eval_episodes} episodes each "
+            f"{eval_episodes} episodes each "
             f"(all {len(result['objects'])} evaluated objects by split: {by_split})"
         )
 

@@ -22,7 +22,8 @@ from pathlib import Path
 import torch
 from hydra import compose, initialize_config_dir
 
-from mobilemani_vla.config import CAMERAS, VLACfg, vla_cfg_from_hydra
+from mobilemani_rl.schema import to_dataclass
+from mobilemani_vla.config import CAMERAS, ROOT_ONLY, VLACfg
 from mobilemani_vla.data import fit_normalizer, open_data
 from mobilemani_vla.model import MobileManiVLA, build_model
 from mobilemani_vla.processor import STATE_DIMS, VLAProcessor
@@ -33,7 +34,9 @@ CONF = str(Path(__file__).resolve().parents[1] / "conf")
 
 def compose_cfg(overrides: list[str]) -> VLACfg:
     with initialize_config_dir(config_dir=CONF, version_base="1.3"):
-        return vla_cfg_from_hydra(compose(config_name="vla", overrides=overrides))
+        return to_dataclass(
+            compose(config_name="vla", overrides=overrides), VLACfg, ignore=ROOT_ONLY
+        ).validate()
 
 
 def parameter_counts(model: MobileManiVLA) -> dict[str, int]:

@@ -1,12 +1,15 @@
-"""Dataclass configs of MobileManiVLA, mirrored one-to-one by the Hydra tree under conf/
-(root conf/vla.yaml)."""
+"""Dataclass configs of MobileManiVLA: VLARootCfg is conf/vla.yaml's schema, whose groups (conf/vla/model,
+conf/vla/train, conf/experiment) change the defaults. A composed config converts with
+`to_dataclass(cfg, VLACfg, ignore=ROOT_ONLY).validate()`."""
 
 from __future__ import annotations
 
 from dataclasses import dataclass, field
 
-from omegaconf import DictConfig, OmegaConf
+from omegaconf import OmegaConf
 
+from mobilemani_rl.envs.config import RobotChoiceCfg
+from mobilemani_rl.schema import register_schema, to_dataclass
 from mobilemani_vla.augment import AugmentCfg
 from mobilemani_vla.dit import DIT_PRESETS
 
@@ -156,19 +159,19 @@ def _choices(kind: str, values: list[str], valid) -> None:
         raise ValueError(f"invalid {kind} {values}: each must be one of {list(valid)}, without repeats")
 
 
-def vla_cfg_from_hydra(cfg: DictConfig) -> VLACfg:
-    """Composed Hydra config -> VLACfg; unknown keys are errors (the dataclass is the schema)."""
-    container = OmegaConf.to_container(cfg, resolve=True)
-    container.pop("hydra", None)
-    container.pop("task", None)  # the shared robot group's block; `robot` already holds its name
-    merged = OmegaConf.merge(OmegaConf.structured(VLACfg), container)
-    return OmegaConf.to_object(merged).validate()
+@dataclass
+class VLARootCfg(VLACfg):
+    """conf/vla.yaml's schema: VLACfg with the robot group's block, of which `robot` is a copy."""
+
+    task: RobotChoiceCfg = field(default_factory=RobotChoiceCfg)
+
+
+ROOT_ONLY = ("task",)  # VLARootCfg's keys that VLACfg leaves out
+register_schema("vla_schema", VLARootCfg)
 
 
 def vla_cfg_from_yaml(text: str) -> VLACfg:
-    return OmegaConf.to_object(
-        OmegaConf.merge(OmegaConf.structured(VLACfg), OmegaConf.create(text))
-    ).validate()
+    return to_dataclass(OmegaConf.create(text), VLACfg).validate()
 
 
 def vla_cfg_to_yaml(cfg: VLACfg) -> str:

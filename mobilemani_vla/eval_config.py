@@ -1,14 +1,14 @@
-"""Closed-loop evaluation config (mirrored by conf/eval.yaml and its groups
-conf/eval/{protocol,split,policy})."""
+"""Closed-loop evaluation config: EvalRootCfg is conf/eval.yaml's schema, its groups
+conf/eval/{protocol,split,policy} change the defaults of `subset` and `policy`. A composed config converts
+with `to_dataclass(with_env_task(cfg), EvalCfg).check_counts()`."""
 
 from __future__ import annotations
 
 from dataclasses import dataclass, field
 
-from omegaconf import DictConfig, OmegaConf
-
-from mobilemani_rl.envs.config import EnvCfg, env_cfg_from_hydra
+from mobilemani_rl.envs.config import EnvCfg, EnvParamsCfg, RobotChoiceCfg
 from mobilemani_rl.registry import check_positive
+from mobilemani_rl.schema import register_schema
 from mobilemani_rl.tasks import SubsetCfg
 from mobilemani_vla.ensemble import EnsembleCfg
 
@@ -62,24 +62,24 @@ class EvalCfg:
         test_objects_test_scenes."""
         return f"{self.subset.split}_objects_{self.subset.scene_split or self.subset.split}_scenes"
 
+    def check_counts(self) -> EvalCfg:
+        check_positive(
+            {
+                "subset.episodes": self.subset.episodes,
+                "episodes_per_batch": self.episodes_per_batch,
+                "subset.scenes_per_object": self.subset.scenes_per_object,
+                "subset.objects_per_category": self.subset.objects_per_category,
+            }
+        )
+        return self
 
-def eval_cfg_from_hydra(cfg: DictConfig) -> EvalCfg:
-    """Composed conf/eval.yaml -> EvalCfg; unknown keys are errors. Episodes run with recording resets."""
-    plain = OmegaConf.to_container(cfg, resolve=True)
-    plain.pop("hydra", None)
-    task = plain.pop("task")
-    env = env_cfg_from_hydra(OmegaConf.create({"env": plain.pop("env"), "task": task}))
-    env.reset.recording = True  # realistic scenes, as the dataset was recorded
-    out: EvalCfg = OmegaConf.to_object(
-        OmegaConf.merge(OmegaConf.structured(EvalCfg), {**plain, "robot": task["robot"]})
-    )
-    out.env = env
-    check_positive(
-        {
-            "subset.episodes": out.subset.episodes,
-            "episodes_per_batch": out.episodes_per_batch,
-            "subset.scenes_per_object": out.subset.scenes_per_object,
-            "subset.objects_per_category": out.subset.objects_per_category,
-        }
-    )
-    return out
+
+@dataclass
+class EvalRootCfg(EvalCfg):
+    """conf/eval.yaml's schema: the env block without its task, which the robot group's block makes."""
+
+    env: EnvParamsCfg = field(default_factory=EnvParamsCfg)
+    task: RobotChoiceCfg = field(default_factory=RobotChoiceCfg)
+
+
+register_schema("eval_schema", EvalRootCfg)

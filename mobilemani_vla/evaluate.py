@@ -25,13 +25,14 @@ import hydra
 from omegaconf import DictConfig, OmegaConf
 
 from mobilemani_rl.assets.robots import get_robot
-from mobilemani_rl.envs.config import TaskCfg
+from mobilemani_rl.envs.config import TaskCfg, with_env_task
 from mobilemani_rl.envs.mobilemani_env import MobileManiEnv
 from mobilemani_rl.io import write_json_atomic
 from mobilemani_rl.progress import Progress
+from mobilemani_rl.schema import to_dataclass
 from mobilemani_rl.tasks import Combination, recording_env_cfg, select_combinations
 from mobilemani_rl.video import HeadCameraRecorder
-from mobilemani_vla.eval_config import DEFAULT_IMAGE_SIZE, EvalCfg, eval_cfg_from_hydra
+from mobilemani_vla.eval_config import DEFAULT_IMAGE_SIZE, EvalCfg
 from mobilemani_vla.harness import run_batch
 from mobilemani_vla.policies.base import EvalPolicy
 from mobilemani_vla.policies.factory import build_policy
@@ -147,7 +148,7 @@ def evaluate(cfg: EvalCfg, policy: EvalPolicy | None = None) -> dict:
 
 @hydra.main(config_path="../conf", config_name="eval", version_base="1.3")
 def main(cfg: DictConfig) -> None:
-    print(json.dumps(evaluate(eval_cfg_from_hydra(cfg))["overall"], indent=2))
+    print(json.dumps(evaluate(to_dataclass(with_env_task(cfg), EvalCfg).check_counts())["overall"], indent=2))
 
 
 if __name__ == "__main__":

@@ -26,6 +26,7 @@ from torch.utils.data import DataLoader
 from tqdm import tqdm
 from transformers import PreTrainedTokenizerBase
 
+from mobilemani_rl.schema import to_dataclass
 from mobilemani_vla.augment import augment_images
 from mobilemani_vla.checkpoint import (
     checkpoint_dir,
@@ -36,7 +37,7 @@ from mobilemani_vla.checkpoint import (
     save_artifacts,
     save_gathered_weights,
 )
-from mobilemani_vla.config import VLACfg, vla_cfg_from_hydra, vla_cfg_from_yaml
+from mobilemani_vla.config import ROOT_ONLY, VLACfg, vla_cfg_from_yaml
 from mobilemani_vla.data import fit_normalizer, open_data, open_metadata
 from mobilemani_vla.diagnostics import diagnose, heldout_batch
 from mobilemani_vla.model import MobileManiVLA, build_model
@@ -249,7 +250,7 @@ def train(cfg: VLACfg) -> TrainResult:
 
 @hydra.main(config_path="../conf", config_name="vla", version_base="1.3")
 def main(cfg: DictConfig) -> None:
-    train(vla_cfg_from_hydra(cfg))
+    train(to_dataclass(cfg, VLACfg, ignore=ROOT_ONLY).validate())
 
 
 if __name__ == "__main__":

@@ -6,7 +6,9 @@ from pathlib import Path
 
 from hydra import compose, initialize_config_dir
 
-from mobilemani_data.config import DataCfg, data_cfg_from_hydra
+from mobilemani_data.config import DataCfg
+from mobilemani_rl.envs.config import with_env_task
+from mobilemani_rl.schema import to_dataclass
 
 CONF = Path(__file__).resolve().parents[1] / "conf"
 
@@ -26,4 +28,4 @@ def tiny_cfg(workdir: Path, *overrides: str) -> DataCfg:
                 *overrides,
             ],
         )
-    return data_cfg_from_hydra(cfg)
+    return to_dataclass(with_env_task(cfg), DataCfg).check_counts()

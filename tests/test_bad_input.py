@@ -24,13 +24,15 @@ def test_non_positive_counts_name_their_keys(tmp_path):
 def test_non_positive_evaluation_counts_name_their_keys():
     from hydra import compose, initialize_config_dir
 
-    from mobilemani_vla.eval_config import eval_cfg_from_hydra
+    from mobilemani_rl.envs.config import with_env_task
+    from mobilemani_rl.schema import to_dataclass
+    from mobilemani_vla.eval_config import EvalCfg
 
     conf = str(Path(__file__).resolve().parents[1] / "conf")
     with initialize_config_dir(config_dir=conf, version_base="1.3"):
         cfg = compose(config_name="eval", overrides=["episodes_per_batch=0"])
     with pytest.raises(ValueError, match="episodes_per_batch=0"):
-        eval_cfg_from_hydra(cfg)
+        to_dataclass(with_env_task(cfg), EvalCfg).check_counts()
 
 
 def test_validating_nothing_is_a_problem_not_valid(tmp_path):

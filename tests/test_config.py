@@ -1,4 +1,4 @@
-"""The Hydra YAML tree mirrors the dataclass configs."""
+"""The Hydra YAML tree takes its defaults from the dataclass configs."""
 
 from pathlib import Path
 
@@ -6,7 +6,9 @@ import pytest
 from hydra import compose, initialize_config_dir
 from omegaconf.errors import ConfigKeyError
 
-from mobilemani_rl.envs.config import EnvCfg, TaskCfg, env_cfg_from_hydra
+from mobilemani_rl.envs.config import EnvCfg, TaskCfg
+from mobilemani_rl.rl.config import RLCfg
+from mobilemani_rl.schema import to_dataclass
 
 CONF = str(Path(__file__).resolve().parents[1] / "conf")
 
@@ -17,12 +19,12 @@ def compose_rl(overrides: list[str]):
 
 
 def test_default_yaml_equals_dataclass_defaults():
-    cfg = env_cfg_from_hydra(compose_rl([]))
+    cfg = to_dataclass(compose_rl([]), RLCfg).env_cfg()
     assert cfg == EnvCfg()
 
 
 def test_overrides_reach_the_env_config():
-    cfg = env_cfg_from_hydra(
+    cfg = to_dataclass(
         compose_rl(
             [
                 "robot=xhand",
@@ -31,12 +33,13 @@ def test_overrides_reach_the_env_config():
                 "env.num_envs=8",
                 "env.physics.substeps=4",
             ]
-        )
-    )
+        ),
+        RLCfg,
+    ).env_cfg()
     assert cfg.task == TaskCfg(robot="xhand", object="test/can", skill="pick")
     assert cfg.num_envs == 8 and cfg.physics.substeps == 4
 
 
 def test_unknown_key_is_an_error():
-    with pytest.raises(ConfigKeyError):
-        env_cfg_from_hydra(compose_rl(["+env.physics.warp_speed=9"]))
+    with pytest.raises(ConfigKeyError, match="warp_speed"):
+        to_dataclass({"env": {"physics": {"warp_speed": 9}}}, RLCfg)

@@ -1,5 +1,5 @@
 """Combinations, instructions, shards of work,
-and the Hydra tree mirroring the dataclasses (no simulation)."""
+and the Hydra tree converting to the dataclasses (no simulation)."""
 
 import numpy as np
 import pytest
@@ -8,10 +8,12 @@ from hydra import compose, initialize_config_dir
 from omegaconf.errors import ConfigKeyError
 
 from mobilemani_data.combos import shard_of, shard_path
-from mobilemani_data.config import DataCfg, ShardCfg, SubsetCfg, data_cfg_from_hydra
+from mobilemani_data.config import DataCfg, ShardCfg, SubsetCfg
 from mobilemani_data.convert import episode_vectors
 from mobilemani_data.shards import FRAME_KEYS, Episode
+from mobilemani_rl.envs.config import with_env_task
 from mobilemani_rl.registry import UnknownNameError
+from mobilemani_rl.schema import to_dataclass
 from mobilemani_rl.tasks import instruction, select_combinations
 
 
@@ -60,13 +62,14 @@ def test_unknown_names_stop_with_the_valid_choices():
 
 
 @pytest.mark.parametrize("subset", ["small", "tiny", "train", "test"])
-def test_hydra_tree_mirrors_the_dataclasses(subset):
+def test_hydra_tree_converts_to_the_dataclasses(subset):
     with initialize_config_dir(config_dir=str(CONF), version_base="1.3"):
-        cfg = data_cfg_from_hydra(compose("data", overrides=[f"data/subset={subset}", "robot=xhand"]))
+        composed = compose("data", overrides=[f"data/subset={subset}", "robot=xhand"])
+    cfg = to_dataclass(with_env_task(composed), DataCfg).check_counts()
     assert isinstance(cfg, DataCfg) and cfg.robot == "xhand" and cfg.raw_dir == "data/xhand/raw"
     assert cfg.env.task.robot == "xhand"
     with initialize_config_dir(config_dir=str(CONF), version_base="1.3"), pytest.raises(ConfigKeyError):
-        data_cfg_from_hydra(compose("data", overrides=["+export.no_such_key=1"]))
+        to_dataclass(with_env_task(compose("data", overrides=["+export.no_such_key=1"])), DataCfg)
 
 
 def test_labels_are_shifted_and_states_drop_the_reset():

@@ -10,16 +10,18 @@ from hydra import compose, initialize_config_dir
 from omegaconf import OmegaConf
 
 from mobilemani_rl.base_frame import action_to_base
-from mobilemani_rl.envs.config import EnvCfg, TaskCfg, env_cfg_from_hydra
+from mobilemani_rl.envs.config import EnvCfg, TaskCfg, with_env_task
 from mobilemani_rl.envs.mobilemani_env import MobileManiEnv
 from mobilemani_rl.eval import evaluate as evaluate_teacher
+from mobilemani_rl.rl.config import RLCfg
 from mobilemani_rl.rl.run_dir import CONFIG, latest_checkpoint
 from mobilemani_rl.rollout import run_first_episodes
+from mobilemani_rl.schema import to_dataclass
 from mobilemani_rl.scripted import ScriptedPolicy
 from mobilemani_rl.train import train as train_ppo
-from mobilemani_vla.config import vla_cfg_from_hydra
+from mobilemani_vla.config import ROOT_ONLY, VLACfg
 from mobilemani_vla.ensemble import AdaptiveEnsembler, ChunkExecutor, EnsembleCfg, ensemble_weights
-from mobilemani_vla.eval_config import eval_cfg_from_hydra
+from mobilemani_vla.eval_config import EvalCfg
 from mobilemani_vla.evaluate import evaluate
 from mobilemani_vla.harness import run_batch
 from mobilemani_vla.policies.privileged import RandomPolicy, ScriptedEvalPolicy, TeacherEvalPolicy
@@ -123,7 +125,7 @@ def test_tiny_ppo_teacher_through_the_harness_reproduces_its_own_evaluation(tmp_
     train_ppo(compose_cfg("rl", ["rl/ppo=tiny", f"run_dir={run_dir}"]))
     checkpoint = latest_checkpoint(run_dir)
     own = evaluate_teacher(checkpoint, episodes=16, seed=3)["success_rate"]
-    env_cfg = env_cfg_from_hydra(OmegaConf.load(run_dir / CONFIG))
+    env_cfg = to_dataclass(OmegaConf.load(run_dir / CONFIG), RLCfg).env_cfg()
     env_cfg.num_envs = 16
     stats = run_batch(MobileManiEnv(env_cfg), TeacherEvalPolicy(str(checkpoint)), 3, "open box", ENSEMBLE)
     assert abs(stats.success.mean() - own) <= 0.02
@@ -136,7 +138,7 @@ def test_trained_box_teacher_reproduces_its_success_rate():
     if not checkpoint.exists():
         pytest.skip("no trained teacher checkpoint in runs/rl")
     own = evaluate_teacher(checkpoint, episodes=256, seed=1000)["success_rate"]
-    env_cfg = env_cfg_from_hydra(OmegaConf.load(checkpoint.parent / CONFIG))
+    env_cfg = to_dataclass(OmegaConf.load(checkpoint.parent / CONFIG), RLCfg).env_cfg()
     env_cfg.num_envs = 256
     stats = run_batch(MobileManiEnv(env_cfg), TeacherEvalPolicy(str(checkpoint)), 1000, "open box", ENSEMBLE)
     print(f"teacher success: own evaluation {own:.4f}, through the harness {stats.success.mean():.4f}")
@@ -153,7 +155,7 @@ def eval_cfg(tmp_path: Path, overrides: list[str]):
         f"output_dir={tmp_path}",
         "env.episode_length=40",
     ]
-    return eval_cfg_from_hydra(compose_cfg("eval", [*base, *overrides]))
+    return to_dataclass(with_env_task(compose_cfg("eval", [*base, *overrides])), EvalCfg).check_counts()
 
 
 def test_protocol_records_are_seeded_resumable_and_summarised(tmp_path):
@@ -186,7 +188,9 @@ def test_small_protocol_runs_as_written_and_reports_totals_and_eta(tmp_path, cap
         "subset.skills=[open]",
         "env.episode_length=20",
     ]
-    cfg = eval_cfg_from_hydra(compose_cfg("eval", [*protocol, f"output_dir={tmp_path / 'default'}"]))
+    cfg = to_dataclass(
+        with_env_task(compose_cfg("eval", [*protocol, f"output_dir={tmp_path / 'default'}"])), EvalCfg
+    ).check_counts()
     assert cfg.episodes_per_batch == 10 and cfg.batch_size == 2
     evaluate(cfg)
     out = capsys.readouterr().out
@@ -195,9 +199,12 @@ def test_small_protocol_runs_as_written_and_reports_totals_and_eta(tmp_path, cap
         in out
     )
     assert "block 0: success" in out and "| 2/2 episodes, " in out and " ETA 0s" in out
-    explicit = eval_cfg_from_hydra(
-        compose_cfg("eval", [*protocol, f"output_dir={tmp_path / 'explicit'}", "episodes_per_batch=2"])
-    )
+    explicit = to_dataclass(
+        with_env_task(
+            compose_cfg("eval", [*protocol, f"output_dir={tmp_path / 'explicit'}", "episodes_per_batch=2"])
+        ),
+        EvalCfg,
+    ).check_counts()
     evaluate(explicit)
     split = "g1/default/test_objects_test_scenes.jsonl"
     assert [r["seed"] for r in read_records(tmp_path / "default" / split)] == [
@@ -209,7 +216,7 @@ def test_small_protocol_runs_as_written_and_reports_totals_and_eta(tmp_path, cap
 
 def test_tiny_vla_runs_the_protocol_end_to_end(tmp_path):
     root = write_synthetic_dataset(tmp_path / "data", episodes=2, length=20)
-    vla_cfg = vla_cfg_from_hydra(
+    vla_cfg = to_dataclass(
         compose_cfg(
             "vla",
             [
@@ -225,8 +232,10 @@ def test_tiny_vla_runs_the_protocol_end_to_end(tmp_path):
                 "data.heldout_episodes=1",
                 "inputs.states=[wrist_pose,grasp_point,goal_point]",
             ],
-        )
-    )
+        ),
+        VLACfg,
+        ignore=ROOT_ONLY,
+    ).validate()
     checkpoint = train_vla(vla_cfg).checkpoint
     cfg = eval_cfg(
         tmp_path / "results",

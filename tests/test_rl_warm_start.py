@@ -9,10 +9,12 @@ import torch
 from hydra import compose, initialize_config_dir
 from tensordict import TensorDict
 
-from mobilemani_rl.rl.factory import build_runner, ppo_cfg_from_hydra
+from mobilemani_rl.rl.config import RLCfg
+from mobilemani_rl.rl.factory import build_runner
 from mobilemani_rl.rl.run_dir import ConfigMismatchError, latest_checkpoint
 from mobilemani_rl.rl.runner import MobileManiRunner
 from mobilemani_rl.rl.warm_start import collect, discounted_returns, warm_start
+from mobilemani_rl.schema import to_dataclass
 from mobilemani_rl.train import train
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -40,7 +42,7 @@ def test_discounted_returns_sum_each_episodes_future_rewards():
 @pytest.fixture(scope="module")
 def tiny_runner():
     cfg = compose_rl(TINY)
-    return build_runner(cfg, run_dir=None), ppo_cfg_from_hydra(cfg)
+    return build_runner(cfg, run_dir=None), to_dataclass(cfg, RLCfg).rl.ppo
 
 
 def test_collected_labels_are_scripted_actions_of_every_step(tiny_runner):

@@ -12,9 +12,10 @@ from hydra import compose, initialize_config_dir
 from safetensors.torch import load_file
 from transformers import PaliGemmaForConditionalGeneration
 
+from mobilemani_rl.schema import to_dataclass
 from mobilemani_vla.backbone import paligemma_config
 from mobilemani_vla.checkpoint import EMA_WEIGHTS, FSDP_SHARDS, FSDP_WEIGHTS, WEIGHTS, load_checkpoint
-from mobilemani_vla.config import ModelCfg, VLACfg, vla_cfg_from_hydra
+from mobilemani_vla.config import ROOT_ONLY, ModelCfg, VLACfg
 from mobilemani_vla.model import build_model
 from mobilemani_vla.policies.vla import VLAEvalPolicy
 from mobilemani_vla.synthetic import write_synthetic_dataset
@@ -26,7 +27,9 @@ CONF = str(Path(__file__).resolve().parents[1] / "conf")
 
 def compose_vla(overrides: list[str]) -> VLACfg:
     with initialize_config_dir(config_dir=CONF, version_base="1.3"):
-        return vla_cfg_from_hydra(compose(config_name="vla", overrides=overrides))
+        return to_dataclass(
+            compose(config_name="vla", overrides=overrides), VLACfg, ignore=ROOT_ONLY
+        ).validate()
 
 
 @pytest.fixture(scope="module")

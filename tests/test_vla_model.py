@@ -8,8 +8,9 @@ import torch
 from hydra import compose, initialize_config_dir
 from transformers.models.paligemma.modeling_paligemma import PaliGemmaModel
 
+from mobilemani_rl.schema import to_dataclass
 from mobilemani_vla.backbone import CognitionBackbone, paligemma_config
-from mobilemani_vla.config import ModelCfg, VLACfg, vla_cfg_from_hydra
+from mobilemani_vla.config import ROOT_ONLY, ModelCfg, VLACfg
 from mobilemani_vla.diffusion import make_scheduler
 from mobilemani_vla.dit import DiT
 from mobilemani_vla.model import build_model
@@ -21,7 +22,9 @@ CONF = str(Path(__file__).resolve().parents[1] / "conf")
 
 def compose_vla(overrides: list[str]) -> VLACfg:
     with initialize_config_dir(config_dir=CONF, version_base="1.3"):
-        return vla_cfg_from_hydra(compose(config_name="vla", overrides=overrides))
+        return to_dataclass(
+            compose(config_name="vla", overrides=overrides), VLACfg, ignore=ROOT_ONLY
+        ).validate()
 
 
 def count(module: torch.nn.Module) -> int:

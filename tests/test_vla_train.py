@@ -10,7 +10,8 @@ import torch
 from hydra import compose, initialize_config_dir
 
 from mobilemani_data import schema
-from mobilemani_vla.config import VLACfg, vla_cfg_from_hydra
+from mobilemani_rl.schema import to_dataclass
+from mobilemani_vla.config import ROOT_ONLY, VLACfg
 from mobilemani_vla.data import fit_normalizer, open_data
 from mobilemani_vla.frame_cache import cache_dir
 from mobilemani_vla.model import build_model
@@ -47,9 +48,11 @@ def tiny_overrides(root: Path, out: Path) -> list[str]:
 
 def tiny_cfg(root: Path, out: Path, overrides: list[str] = ()) -> VLACfg:
     with initialize_config_dir(config_dir=CONF, version_base="1.3"):
-        return vla_cfg_from_hydra(
-            compose(config_name="vla", overrides=[*overrides, *tiny_overrides(root, out)])
-        )
+        return to_dataclass(
+            compose(config_name="vla", overrides=[*overrides, *tiny_overrides(root, out)]),
+            VLACfg,
+            ignore=ROOT_ONLY,
+        ).validate()
 
 
 def test_forward_backward_on_a_dataset_batch(dataset_root, tmp_path):

@@ -1,4 +1,5 @@
-"""Environment configuration dataclasses, mirrored by conf/env/*.yaml.
+"""Environment configuration dataclasses: EnvParamsCfg is conf/env's schema, TaskCfg the root's `task` block
+(conf/robot and the RL root).
 
 Defaults are the reference's (docs/reference.md) except for the MuJoCo
 timestep, which is ours: see PhysicsCfg.
@@ -7,6 +8,7 @@ timestep, which is ours: see PhysicsCfg.
 from __future__ import annotations
 
 from dataclasses import dataclass, field
+from typing import Any
 
 from omegaconf import DictConfig, OmegaConf
 
@@ -41,6 +43,13 @@ class TaskCfg:
     object: str = "test/box"
     skill: str = "open"
     scene: str | None = None  # a placement id such as "tabletop/07"; None: the plain stage scene
+
+
+@dataclass
+class RobotChoiceCfg:
+    """The robot group's block (conf/robot, `@package task`) in a root that takes no task."""
+
+    robot: str = "g1"
 
 
 @dataclass
@@ -96,13 +105,14 @@ class SuccessCfg:
 
 
 @dataclass
-class EnvCfg:
+class EnvParamsCfg:
+    """Everything of an env but its task: conf/env's schema (the task is the root's own `task` block)."""
+
     num_envs: int = 64
     episode_length: int = 300  # control steps (10 s at 30 Hz)
     seed: int = 0
     obs_clip: float = 10.0
     reward_clip: float = 10.0
-    task: TaskCfg = field(default_factory=TaskCfg)
     physics: PhysicsCfg = field(default_factory=PhysicsCfg)
     actions: ActionCfg = field(default_factory=ActionCfg)
     reset: ResetCfg = field(default_factory=ResetCfg)
@@ -110,9 +120,13 @@ class EnvCfg:
     success: SuccessCfg = field(default_factory=SuccessCfg)
 
 
-def env_cfg_from_hydra(cfg: DictConfig) -> EnvCfg:
-    """Build the EnvCfg from a composed root config (`env` block + `task` block); unknown keys are errors."""
-    merged = OmegaConf.merge(
-        OmegaConf.structured(EnvCfg), {**OmegaConf.to_container(cfg.env), "task": cfg.task}
-    )
-    return OmegaConf.to_object(merged)
+@dataclass
+class EnvCfg(EnvParamsCfg):
+    task: TaskCfg = field(default_factory=TaskCfg)
+
+
+def with_env_task(cfg: DictConfig) -> dict[str, Any]:
+    """A composed root as a dict whose `env` block holds the root's `task` block, as EnvCfg nests it."""
+    plain = OmegaConf.to_container(cfg, resolve=True)
+    plain["env"] = {**plain["env"], "task": plain.pop("task")}
+    return plain

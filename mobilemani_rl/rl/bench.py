@@ -16,7 +16,9 @@ import numpy as np
 from hydra import compose, initialize_config_dir
 
 from mobilemani_rl.bench import interleaved_rates, print_report, raw_physics_replay
-from mobilemani_rl.rl.factory import build_runner, ppo_cfg_from_hydra
+from mobilemani_rl.rl.config import RLCfg
+from mobilemani_rl.rl.factory import build_runner
+from mobilemani_rl.schema import to_dataclass
 
 CONF = str(Path(__file__).resolve().parents[2] / "conf")
 
@@ -24,7 +26,7 @@ CONF = str(Path(__file__).resolve().parents[2] / "conf")
 def bench_preset(preset: str, robot: str, iterations: int) -> dict:
     with initialize_config_dir(config_dir=CONF, version_base="1.3"):
         cfg = compose(config_name="rl", overrides=[f"rl/ppo={preset}", f"robot={robot}"])
-    ppo = ppo_cfg_from_hydra(cfg)
+    ppo = to_dataclass(cfg, RLCfg).rl.ppo
     runner = build_runner(cfg, run_dir=None)
     runner.learn(num_learning_iterations=1)  # warm-up: first rollout, normaliser, allocator
     start = time.perf_counter()

@@ -1,8 +1,14 @@
-"""PPO settings (mirrored by conf/rl/ppo/*.yaml) and their translation into rsl-rl-lib 5's config dict."""
+"""The RL entry points' configs: PPO settings (conf/rl/ppo presets change PpoCfg's defaults), their
+translation into rsl-rl-lib 5's config dict, and the schemas of the roots conf/rl.yaml and
+conf/eval_rl.yaml."""
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
+import copy
+from dataclasses import dataclass, field, fields
+
+from mobilemani_rl.envs.config import EnvCfg, EnvParamsCfg, TaskCfg
+from mobilemani_rl.schema import register_schema
 
 
 @dataclass
@@ -25,7 +31,7 @@ class WarmStartCfg:
 
 @dataclass
 class PpoCfg:
-    """Defaults are the reference's (docs/reference.md, "PPO"), i.e. conf/rl/ppo/paper.yaml."""
+    """Defaults are the reference's (docs/reference.md, "PPO"); conf/rl/ppo/paper.yaml changes none."""
 
     num_envs: int = 1024
     num_steps_per_env: int = 16
@@ -55,6 +61,46 @@ class PpoCfg:
     seed: int = 42
     torch_threads: int = 0  # 0: torch's default
     warm_start: WarmStartCfg = field(default_factory=WarmStartCfg)
+
+
+@dataclass
+class RlGroupCfg:
+    ppo: PpoCfg = field(default_factory=PpoCfg)
+
+
+@dataclass
+class RLCfg:
+    """conf/rl.yaml's schema: a training run (python -m mobilemani_rl.train), also its saved config.yaml."""
+
+    task: TaskCfg = field(default_factory=TaskCfg)
+    env: EnvParamsCfg = field(default_factory=EnvParamsCfg)
+    rl: RlGroupCfg = field(default_factory=RlGroupCfg)
+    # task.object may name a category (e.g. laptop): one policy over up to this many of its train objects.
+    objects_per_policy: int = 8
+    # One directory per task, so that rerunning the same command resumes it.
+    run_dir: str = "runs/rl/${task.robot}/${task.object}/${task.skill}"
+    eval_episodes: int = 0  # > 0: evaluate the final checkpoint on this many seeded episodes
+    logger: str = "tensorboard"  # tensorboard | wandb (offline unless WANDB_MODE says otherwise)
+    wandb_project: str = "mobilemanibench"
+
+    def env_cfg(self) -> EnvCfg:
+        """The env block with the task: a copy, free to change."""
+        params = {f.name: getattr(self.env, f.name) for f in fields(EnvParamsCfg)}
+        return copy.deepcopy(EnvCfg(**params, task=self.task))
+
+
+@dataclass
+class EvalRlCfg:
+    """conf/eval_rl.yaml's schema (python -m mobilemani_rl.eval)."""
+
+    checkpoint: str | None = None  # a model_*.pt of a training run
+    episodes: int = 256  # per evaluated object; the paper evaluates 1024
+    seed: int = 1000  # evaluation seeds differ from training's
+    video_episodes: int = 0  # head-camera MP4s of the first k episodes
+
+
+register_schema("rl_schema", RLCfg)
+register_schema("eval_rl_schema", EvalRlCfg)
 
 
 def rsl_rl_train_cfg(ppo: PpoCfg, logger: dict | str, run_name: str) -> dict:

@@ -5,20 +5,17 @@ from __future__ import annotations
 from pathlib import Path
 
 import torch
-from omegaconf import DictConfig, OmegaConf
+from omegaconf import DictConfig
 
 from mobilemani_rl.assets.objects import CATEGORIES, catalog_ids
 from mobilemani_rl.envs.batched import BatchedEnv
-from mobilemani_rl.envs.config import EnvCfg, env_cfg_from_hydra
+from mobilemani_rl.envs.config import EnvCfg
 from mobilemani_rl.envs.mobilemani_env import MobileManiEnv
 from mobilemani_rl.envs.multi_object import MultiObjectEnv
 from mobilemani_rl.envs.vecenv import RslRlVecEnv
-from mobilemani_rl.rl.config import PpoCfg, rsl_rl_train_cfg
+from mobilemani_rl.rl.config import RLCfg, rsl_rl_train_cfg
 from mobilemani_rl.rl.runner import MobileManiRunner
-
-
-def ppo_cfg_from_hydra(cfg: DictConfig) -> PpoCfg:
-    return OmegaConf.to_object(OmegaConf.merge(OmegaConf.structured(PpoCfg), cfg.rl.ppo))
+from mobilemani_rl.schema import to_dataclass
 
 
 def policy_objects(task_object: str, max_objects: int) -> list[str] | None:
@@ -39,21 +36,23 @@ def build_runner(
     num_envs: int | None = None,
     env: BatchedEnv | None = None,
 ) -> MobileManiRunner:
-    """Env + rsl-rl runner for a composed config (run_dir None: no logging, e.g. for evaluation)."""
-    ppo = ppo_cfg_from_hydra(cfg)
+    """Env + rsl-rl runner for a composed config or a run's saved one (run_dir None: no logging, e.g. for
+    evaluation)."""
+    run = to_dataclass(cfg, RLCfg)
+    ppo = run.rl.ppo
     if ppo.torch_threads:
         torch.set_num_threads(ppo.torch_threads)
     torch.manual_seed(ppo.seed)
     if env is None:
-        env_cfg = env_cfg_from_hydra(cfg)
+        env_cfg = run.env_cfg()
         env_cfg.num_envs, env_cfg.seed = num_envs or ppo.num_envs, ppo.seed
-        env = make_env(env_cfg, cfg.objects_per_policy)
+        env = make_env(env_cfg, run.objects_per_policy)
     env_cfg = env.cfg
     env = RslRlVecEnv(env)
     logger = (
-        cfg.logger
-        if cfg.logger == "tensorboard"
-        else {"class_name": "WandbLogWriter", "project_name": cfg.wandb_project}
+        run.logger
+        if run.logger == "tensorboard"
+        else {"class_name": "WandbLogWriter", "project_name": run.wandb_project}
     )
     run_name = f"{env_cfg.task.robot}/{env_cfg.task.object}/{env_cfg.task.skill}"
     train_cfg = rsl_rl_train_cfg(ppo, logger, run_name)

@@ -7,6 +7,8 @@ from dataclasses import dataclass, field
 
 import mujoco
 
+from mobilemani_rl.scripted_config import ScriptedPolicyCfg
+
 
 @dataclass(frozen=True)
 class RobotDescription:
@@ -31,6 +33,7 @@ class RobotDescription:
     default_root_xy: tuple[float, float]
     head_camera: str
     wrist_camera: str
+    scripted: ScriptedPolicyCfg  # the scripted policy's tuning for this robot
     hand_mimic: dict[str, str] = field(default_factory=dict)
 
     @property

@@ -26,6 +26,7 @@ from mobilemani_rl.assets.robots.builder import (
     add_position_actuator,
 )
 from mobilemani_rl.assets.robots.description import RobotDescription
+from mobilemani_rl.scripted_config import ScriptedPolicyCfg
 
 ARM_JOINTS = tuple(f"idx6{i}_arm_r_joint{i}" for i in range(1, 8))
 GRIPPER_JOINT = "idx81_gripper_r_outer_joint1"
@@ -128,4 +129,6 @@ G1 = RobotDescription(
     default_root_xy=(0.0, -1.5),
     head_camera="head_camera",
     wrist_camera="wrist_camera",
+    # docs/results/scripted_success.md says why each value is what it is and what it measured
+    scripted=ScriptedPolicyCfg(move_follow=0.0, approach_from_below=False),
 )

@@ -31,6 +31,7 @@ from mobilemani_rl.assets.robots.builder import (
 )
 from mobilemani_rl.assets.robots.description import RobotDescription
 from mobilemani_rl.assets.robots.g1 import GRIPPER_QUAT, SHOULDER_HEIGHT
+from mobilemani_rl.scripted_config import ScriptedPolicyCfg
 
 ARM_JOINTS = tuple(f"right_arm_joint{i}" for i in range(1, 8))
 ARM_LIMITS = (
@@ -270,4 +271,17 @@ XHAND = RobotDescription(
     default_root_xy=(0.0, -1.25),
     head_camera="head_camera",
     wrist_camera="wrist_camera",
+    # docs/results/scripted_success.md says why each value is what it is and what it measured
+    scripted=ScriptedPolicyCfg(
+        grasp_depth=0.012,
+        close_steps=15,
+        grip_shift=0.02,
+        lid_grip_shift=-0.02,
+        pick_finger_yaw=0.9,
+        pick_grip_shift=0.043,
+        pick_descent_while_moving=0.1,
+        push_lids_shut=True,
+        hooked_lips=("laptop",),
+        lip_hook_shift=0.08,
+    ),
 )

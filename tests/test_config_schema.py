@@ -1,0 +1,102 @@
+"""Every YAML preset composes with its root against the dataclass schemas and converts to its dataclass."""
+
+import shutil
+from pathlib import Path
+
+import pytest
+from hydra import compose, initialize_config_dir
+from hydra.errors import ConfigCompositionException
+from omegaconf import OmegaConf
+from omegaconf.errors import ConfigKeyError
+
+from mobilemani_data.config import DataCfg
+from mobilemani_rl.envs.config import with_env_task
+from mobilemani_rl.rl.config import EvalRlCfg, PpoCfg, RLCfg
+from mobilemani_rl.schema import to_dataclass
+from mobilemani_vla.config import ROOT_ONLY, VLACfg
+from mobilemani_vla.eval_config import EvalCfg
+
+CONF = Path(__file__).resolve().parents[1] / "conf"
+
+# Each root's conversion, as its entry points do it.
+CONVERT = {
+    "rl": lambda cfg: to_dataclass(cfg, RLCfg).env_cfg(),
+    "eval_rl": lambda cfg: to_dataclass(cfg, EvalRlCfg),
+    "data": lambda cfg: to_dataclass(with_env_task(cfg), DataCfg).check_counts(),
+    "vla": lambda cfg: to_dataclass(cfg, VLACfg, ignore=ROOT_ONLY).validate(),
+    "eval": lambda cfg: to_dataclass(with_env_task(cfg), EvalCfg).check_counts(),
+}
+# The roots each config group is composed into.
+GROUP_ROOTS = {
+    "robot": ("rl", "data", "vla", "eval"),
+    "env": ("rl", "data", "eval"),
+    "rl/ppo": ("rl",),
+    "data/subset": ("data",),
+    "data/teacher": ("data",),
+    "vla/model": ("vla",),
+    "vla/train": ("vla",),
+    "eval/policy": ("eval",),
+    "eval/protocol": ("eval",),
+    "eval/split": ("eval",),
+}
+
+
+def compose_root(root: str, overrides: list[str], conf: Path = CONF):
+    with initialize_config_dir(config_dir=str(conf), version_base="1.3"):
+        return compose(config_name=root, overrides=overrides)
+
+
+def preset_cases() -> list[tuple[str, str]]:
+    cases = [
+        (root, f"{group}={path.stem}")
+        for group, roots in GROUP_ROOTS.items()
+        for path in sorted((CONF / group).glob("*.yaml"))
+        for root in roots
+    ]
+    cases += [("vla", f"+experiment={path.stem}") for path in sorted((CONF / "experiment").glob("*.yaml"))]
+    return cases + [(root, "") for root in CONVERT]
+
+
+def test_every_group_is_covered():
+    groups = {str(p.parent.relative_to(CONF)) for p in CONF.glob("*/**/*.yaml")}
+    assert groups - {"experiment", "hydra/launcher"} == set(GROUP_ROOTS)
+
+
+@pytest.mark.parametrize(("root", "override"), preset_cases())
+def test_preset_composes_and_converts(root, override):
+    CONVERT[root](compose_root(root, [override] if override else []))
+
+
+@pytest.mark.parametrize("preset", sorted(p.stem for p in (CONF / "rl/ppo").glob("*.yaml")))
+def test_ppo_preset_keys_are_ppo_cfg_fields(preset):
+    raw = OmegaConf.load(CONF / "rl/ppo" / f"{preset}.yaml")
+    OmegaConf.merge(OmegaConf.structured(PpoCfg), raw)  # raises on a key PpoCfg lacks
+    composed = to_dataclass(compose_root("rl", [f"rl/ppo={preset}"]), RLCfg).rl.ppo
+    assert composed == OmegaConf.to_object(OmegaConf.merge(OmegaConf.structured(PpoCfg), raw))
+
+
+def test_paper_ppo_preset_is_the_dataclass_default():
+    paper = to_dataclass(compose_root("rl", ["rl/ppo=paper"]), RLCfg).rl.ppo
+    # compared as configs: OmegaConf turns noise_std_range's tuple into a list
+    assert OmegaConf.structured(paper) == OmegaConf.structured(PpoCfg())
+
+
+def test_a_typo_on_the_command_line_is_refused_by_name():
+    with pytest.raises(ConfigCompositionException, match="substepz"):
+        compose_root("rl", ["env.physics.substepz=4"])
+    with pytest.raises(ConfigKeyError, match="no_such_key"):
+        CONVERT["data"](compose_root("data", ["+export.no_such_key=1"]))
+
+
+def test_a_typo_in_a_preset_is_refused_by_name(tmp_path):
+    conf = tmp_path / "conf"
+    shutil.copytree(CONF, conf)
+    (conf / "rl/ppo/typo.yaml").write_text("num_env: 8\n")
+    with pytest.raises(ConfigCompositionException) as err:
+        compose_root("rl", ["rl/ppo=typo"], conf)
+    assert "num_env" in f"{err.value} {err.value.__cause__}"
+
+
+def test_a_typo_in_a_saved_run_config_is_refused_by_name():
+    with pytest.raises(ConfigKeyError, match="objects_per_polcy"):
+        to_dataclass({"objects_per_polcy": 3}, RLCfg)
