@@ -20,6 +20,7 @@ from omegaconf import DictConfig
 from mobilemani_data.collect import collect
 from mobilemani_data.config import DataCfg
 from mobilemani_data.export import export
+from mobilemani_rl.cli import entry_point
 from mobilemani_rl.envs.config import with_env_task
 from mobilemani_rl.schema import to_dataclass
 from mobilemani_rl.tasks import SubsetCfg
@@ -65,6 +66,7 @@ def run_bench(cfg: DataCfg, workdir: Path) -> dict:
 
 
 @hydra.main(config_path="../conf", config_name="data", version_base="1.3")
+@entry_point
 def main(cfg: DictConfig) -> None:
     data_cfg = to_dataclass(with_env_task(cfg), DataCfg).check_counts()
     with tempfile.TemporaryDirectory(prefix="mobilemani_bench_") as tmp:

@@ -21,6 +21,7 @@ from mobilemani_data.config import DataCfg
 from mobilemani_data.recorder import collect_successes
 from mobilemani_data.shards import is_complete, write_shard
 from mobilemani_data.teachers import TeacherUnavailable, build_teacher
+from mobilemani_rl.cli import entry_point
 from mobilemani_rl.envs.config import with_env_task
 from mobilemani_rl.progress import Progress
 from mobilemani_rl.schema import to_dataclass
@@ -85,6 +86,7 @@ def collect(cfg: DataCfg) -> list[Path]:
 
 
 @hydra.main(config_path="../conf", config_name="data", version_base="1.3")
+@entry_point
 def main(cfg: DictConfig) -> None:
     collect(to_dataclass(with_env_task(cfg), DataCfg).check_counts())
 

@@ -5,6 +5,7 @@ from __future__ import annotations
 from pathlib import PurePosixPath
 
 from mobilemani_data.config import ShardCfg
+from mobilemani_rl.registry import InputError
 from mobilemani_rl.tasks import Combination
 
 
@@ -16,5 +17,5 @@ def shard_path(combo: Combination) -> PurePosixPath:
 def shard_of(combos: list[Combination], shard: ShardCfg) -> list[Combination]:
     """Round-robin share of one job, so that jobs get similar mixes of categories."""
     if not 0 <= shard.index < shard.count:
-        raise ValueError(f"shard.index must be in [0, {shard.count}), got {shard.index}")
+        raise InputError(f"shard.index must be in [0, {shard.count}), got {shard.index}")
     return combos[shard.index :: shard.count]

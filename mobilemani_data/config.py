@@ -10,7 +10,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass, field
 
-from mobilemani_rl.envs.config import EnvCfg, EnvParamsCfg, RobotChoiceCfg
+from mobilemani_rl.envs.config import EnvCfg, EnvParamsCfg, RobotChoiceCfg, check_env_not_set
 from mobilemani_rl.registry import check_positive
 from mobilemani_rl.schema import register_schema
 from mobilemani_rl.tasks import SubsetCfg
@@ -111,6 +111,7 @@ class DataCfg:
                 "export.height": self.export.height,
             }
         )
+        check_env_not_set(self.env, {"num_envs": "collect.num_envs", "seed": "collect.seed"})
         return self
 
 

@@ -18,6 +18,7 @@ import time
 from dataclasses import dataclass, field
 from pathlib import Path
 
+import av
 import hydra
 from lerobot.configs.video import RGBEncoderConfig
 from lerobot.datasets.lerobot_dataset import LeRobotDataset
@@ -30,7 +31,9 @@ from mobilemani_data.frame import robot_cameras
 from mobilemani_data.replay import Replayer
 from mobilemani_data.shards import Shard, ShardError, read_shard, shard_paths
 from mobilemani_rl.assets.robots import RobotDescription, get_robot
+from mobilemani_rl.cli import entry_point
 from mobilemani_rl.envs.config import with_env_task
+from mobilemani_rl.registry import InputError, MissingFileError
 from mobilemani_rl.render import CameraRenderCfg, CameraRenderer
 from mobilemani_rl.schema import to_dataclass
 
@@ -49,16 +52,23 @@ class ExportReport:
 
 
 def check_streams(cfg: ExportCfg) -> None:
-    """export.cameras / export.modalities: non-empty, known, no repeats
+    """export.cameras / export.modalities: non-empty, known, no repeats; export.vcodec: an encoder
     (checked before anything is written)."""
     for key, values, valid in (
         ("export.cameras", cfg.cameras, schema.CAMERAS),
         ("export.modalities", cfg.modalities, schema.MODALITIES),
     ):
         if not values or any(v not in valid for v in values) or len(set(values)) != len(values):
-            raise ValueError(
+            raise InputError(
                 f"invalid {key} {list(values)}: name one or more of {list(valid)}, without repeats"
             )
+    try:
+        av.Codec(cfg.vcodec, "w")
+    except av.codec.codec.UnknownCodecError as err:  # only PyAV knows this ffmpeg's encoders
+        raise InputError(
+            f"export.vcodec={cfg.vcodec!r} is no video encoder of this ffmpeg; "
+            "e.g. libsvtav1 (the default) or h264"
+        ) from err
 
 
 def image_keys(cfg: ExportCfg) -> list[str]:
@@ -166,7 +176,7 @@ def export(cfg: DataCfg) -> ExportReport:
     check_streams(cfg.export)
     paths = shard_paths(raw_dir, robot.name)
     if not paths:
-        raise FileNotFoundError(
+        raise MissingFileError(
             f"no shards under {raw_dir / robot.name} (run python -m mobilemani_data.collect)"
         )
     source = export_source(cfg.export, raw_dir, paths)
@@ -224,6 +234,7 @@ def export(cfg: DataCfg) -> ExportReport:
 
 
 @hydra.main(config_path="../conf", config_name="data", version_base="1.3")
+@entry_point
 def main(cfg: DictConfig) -> None:
     report = export(to_dataclass(with_env_task(cfg), DataCfg).check_counts())
     timing = (

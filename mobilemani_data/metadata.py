@@ -8,12 +8,13 @@ from pathlib import Path
 from lerobot.datasets.dataset_metadata import LeRobotDatasetMetadata
 
 from mobilemani_data import schema
+from mobilemani_rl.registry import MissingFileError
 
 
 def read_episodes(root: Path) -> list[dict]:
     path = root / schema.EPISODES_FILE
     if not path.is_file():
-        raise FileNotFoundError(
+        raise MissingFileError(
             f"{path} missing: {root} is not a MobileMani dataset (run mobilemani_data.export)"
         )
     return [json.loads(line) for line in path.read_text().splitlines() if line.strip()]
@@ -21,6 +22,28 @@ def read_episodes(root: Path) -> list[dict]:
 
 def read_export_report(root: Path) -> dict:
     return json.loads((root / schema.EXPORT_REPORT_FILE).read_text())
+
+
+META_FILES = ("meta/info.json", "meta/tasks.parquet")  # LeRobot v3's metadata besides meta/episodes/
+
+
+def open_dataset_metadata(repo_id: str, root: str | Path) -> LeRobotDatasetMetadata:
+    """LeRobot's metadata of a local dataset whose every file is there. A missing file is named: LeRobot
+    itself would fall back to the hub and fail offline, naming none."""
+    root = Path(root)
+    missing = [str(root / f) for f in META_FILES if not (root / f).is_file()]
+    if not any((root / "meta" / "episodes").rglob("*.parquet")):
+        missing.append(str(root / "meta/episodes/chunk-*/file-*.parquet"))
+    if missing:
+        raise MissingFileError(f"dataset {root} is missing {', '.join(missing)} (export it again)")
+    meta = LeRobotDatasetMetadata(repo_id, root=root)
+    if len(meta.episodes) != meta.total_episodes:
+        raise MissingFileError(
+            f"dataset {root}: meta/episodes holds {len(meta.episodes)} of the {meta.total_episodes} "
+            "episodes meta/info.json lists; a file under meta/episodes is missing (export it again)"
+        )
+    check_dataset_files(meta)
+    return meta
 
 
 def check_dataset_files(meta: LeRobotDatasetMetadata) -> None:
@@ -33,7 +56,7 @@ def check_dataset_files(meta: LeRobotDatasetMetadata) -> None:
     }
     missing = sorted(str(f) for f in files if not f.is_file())
     if missing:
-        raise FileNotFoundError(
+        raise MissingFileError(
             f"dataset {root} is missing {len(missing)} file(s): {', '.join(missing[:5])}"
             f"{' ...' if len(missing) > 5 else ''} (export it again)"
         )

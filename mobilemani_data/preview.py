@@ -19,6 +19,7 @@ from omegaconf import DictConfig
 
 from mobilemani_data import schema
 from mobilemani_data.config import DataCfg
+from mobilemani_rl.cli import entry_point
 from mobilemani_rl.envs.config import with_env_task
 from mobilemani_rl.schema import to_dataclass
 
@@ -65,6 +66,7 @@ def write_preview(cfg: DataCfg) -> Path:
 
 
 @hydra.main(config_path="../conf", config_name="data", version_base="1.3")
+@entry_point
 def main(cfg: DictConfig) -> None:
     print(write_preview(to_dataclass(with_env_task(cfg), DataCfg).check_counts()))
 

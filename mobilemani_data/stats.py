@@ -19,6 +19,7 @@ from omegaconf import DictConfig
 from mobilemani_data import schema
 from mobilemani_data.config import DataCfg
 from mobilemani_data.metadata import read_episodes
+from mobilemani_rl.cli import entry_point
 from mobilemani_rl.envs.config import with_env_task
 from mobilemani_rl.schema import to_dataclass
 
@@ -66,6 +67,7 @@ def markdown(table: dict) -> str:
 
 
 @hydra.main(config_path="../conf", config_name="data", version_base="1.3")
+@entry_point
 def main(cfg: DictConfig) -> None:
     root = Path(to_dataclass(with_env_task(cfg), DataCfg).check_counts().dataset_dir)
     table = dataset_stats(read_episodes(root))

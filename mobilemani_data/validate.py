@@ -15,17 +15,17 @@ from pathlib import Path
 
 import hydra
 import numpy as np
-from lerobot.datasets.dataset_metadata import LeRobotDatasetMetadata
 from lerobot.datasets.lerobot_dataset import LeRobotDataset
 from omegaconf import DictConfig
 
 from mobilemani_data import schema
 from mobilemani_data.config import DataCfg, ValidateCfg
 from mobilemani_data.convert import FIRST_FRAME
-from mobilemani_data.metadata import check_dataset_files, read_episodes, read_export_report
+from mobilemani_data.metadata import open_dataset_metadata, read_episodes, read_export_report
 from mobilemani_data.replay import Replayer
 from mobilemani_data.shards import Shard, ShardError, read_shard, shard_paths
 from mobilemani_rl.assets.robots import get_robot
+from mobilemani_rl.cli import entry_point
 from mobilemani_rl.envs.config import with_env_task
 from mobilemani_rl.schema import to_dataclass
 
@@ -62,9 +62,8 @@ def check_dataset(
 ) -> list[str]:
     robot = get_robot(robot_name)
     report = read_export_report(root)
-    meta = LeRobotDatasetMetadata(repo_id, root=root)
     try:
-        check_dataset_files(meta)
+        meta = open_dataset_metadata(repo_id, root)
     except FileNotFoundError as err:
         return [str(err)]
     problems = []
@@ -132,6 +131,7 @@ def validate(cfg: DataCfg) -> list[str]:
 
 
 @hydra.main(config_path="../conf", config_name="data", version_base="1.3")
+@entry_point
 def main(cfg: DictConfig) -> None:
     problems = validate(to_dataclass(with_env_task(cfg), DataCfg).check_counts())
     for problem in problems:

@@ -22,9 +22,11 @@ import numpy as np
 from omegaconf import DictConfig, OmegaConf
 
 from mobilemani_rl.assets.objects import CATEGORIES, SPLITS, catalog_ids, get_object
+from mobilemani_rl.cli import entry_point
 from mobilemani_rl.envs.mobilemani_env import MobileManiEnv
 from mobilemani_rl.io import write_json_atomic
 from mobilemani_rl.progress import Progress
+from mobilemani_rl.registry import MissingFileError
 from mobilemani_rl.rl.config import EvalRlCfg, RLCfg
 from mobilemani_rl.rl.factory import policy_objects
 from mobilemani_rl.rollout import run_first_episodes
@@ -43,7 +45,7 @@ def evaluation_objects(task_object: str) -> dict[str, list[str]]:
 def evaluate(checkpoint: Path, episodes: int, seed: int, video_episodes: int = 0) -> dict:
     """Success and reward breakdown of a checkpoint over `episodes` seeded episodes per evaluated object."""
     if not checkpoint.is_file():
-        raise FileNotFoundError(f"checkpoint {checkpoint} does not exist")
+        raise MissingFileError(f"checkpoint {checkpoint} does not exist")
     run_cfg = run_config(checkpoint)
     run = to_dataclass(run_cfg, RLCfg)
     env_cfg = run.env_cfg()
@@ -93,10 +95,9 @@ def evaluate(checkpoint: Path, episodes: int, seed: int, video_episodes: int = 0
 
 
 @hydra.main(config_path="../conf", config_name="eval_rl", version_base="1.3")
+@entry_point
 def main(cfg: DictConfig) -> None:
-    run = to_dataclass(cfg, EvalRlCfg)
-    if run.checkpoint is None:
-        raise SystemExit("checkpoint=<path to a model_*.pt> is required")
+    run = to_dataclass(cfg, EvalRlCfg).check()
     result = evaluate(Path(run.checkpoint), run.episodes, run.seed, run.video_episodes)
     print(json.dumps(result, indent=2))
 

@@ -5,7 +5,16 @@ from __future__ import annotations
 from collections.abc import Iterable, Mapping
 
 
-class UnknownNameError(ValueError):
+class InputError(ValueError):
+    """Bad input the user can fix (a config value, a missing file): the entry points print its message alone,
+    without a traceback (mobilemani_rl.cli.entry_point)."""
+
+
+class MissingFileError(InputError, FileNotFoundError):
+    """An input file or directory that does not exist; the message names it."""
+
+
+class UnknownNameError(InputError):
     """An unknown robot, object, skill or scene name."""
 
 
@@ -24,4 +33,4 @@ def check_positive(counts: Mapping[str, int | None]) -> None:
     """Counts named by their config keys (None: unset) must be >= 1; stops with every offending key."""
     bad = {key: value for key, value in counts.items() if value is not None and value < 1}
     if bad:
-        raise ValueError("these must be at least 1: " + ", ".join(f"{k}={v}" for k, v in bad.items()))
+        raise InputError("these must be at least 1: " + ", ".join(f"{k}={v}" for k, v in bad.items()))

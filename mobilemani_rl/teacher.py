@@ -17,6 +17,7 @@ from tensordict import TensorDict
 
 from mobilemani_rl.assets.objects import get_object
 from mobilemani_rl.envs.batched import BatchedEnv
+from mobilemani_rl.registry import MissingFileError
 from mobilemani_rl.rl.factory import build_runner
 from mobilemani_rl.rl.run_dir import CONFIG, RESULT, latest_checkpoint
 
@@ -36,7 +37,7 @@ def find_teacher_checkpoint(runs_dir: str | Path, robot: str, object_id: str, sk
     for run_dir in (own, category):
         if (found := latest_checkpoint(run_dir)) is not None:
             return found
-    raise FileNotFoundError(
+    raise MissingFileError(
         f"no teacher checkpoint model_*.pt in {own} nor in its category's run {category} (train "
         f"one with python -m mobilemani_rl.train robot={robot} task.object={object_id} or "
         f"task.object={category_name} task.skill={skill})"
@@ -53,9 +54,7 @@ def run_config(checkpoint: Path) -> DictConfig:
     """The config the checkpoint's run was trained with (its run directory's config.yaml)."""
     path = checkpoint.parent / CONFIG
     if not path.is_file():
-        raise FileNotFoundError(
-            f"{checkpoint} has no {CONFIG} beside it; it is not a mobilemani_rl.train run"
-        )
+        raise MissingFileError(f"{checkpoint} has no {CONFIG} beside it; it is not a mobilemani_rl.train run")
     return OmegaConf.load(path)
 
 
@@ -69,7 +68,7 @@ def load_teacher(
     from `cfg` (default: the run's own config) with `num_envs` envs; the teacher was trained with that
     config's physics and action scales."""
     if not checkpoint.is_file():
-        raise FileNotFoundError(f"teacher checkpoint {checkpoint} does not exist")
+        raise MissingFileError(f"teacher checkpoint {checkpoint} does not exist")
     runner = build_runner(
         cfg if cfg is not None else run_config(checkpoint), run_dir=None, num_envs=num_envs, env=env
     )

@@ -17,6 +17,7 @@ from pathlib import Path
 import hydra
 from omegaconf import DictConfig
 
+from mobilemani_rl.cli import entry_point
 from mobilemani_rl.eval import evaluate
 from mobilemani_rl.io import write_json_atomic
 from mobilemani_rl.rl.config import RLCfg
@@ -51,12 +52,12 @@ def load_newest_readable(runner: MobileManiRunner, run_dir: Path) -> Path | None
 
 
 def train(cfg: DictConfig) -> Path:
+    ppo = to_dataclass(cfg, RLCfg).check().rl.ppo  # before anything is written
     run_dir = Path(cfg.run_dir)
     save_or_check_config(run_dir, cfg, RUN_KEYS)  # first: a finished run asked for other settings is an error
     if is_complete(run_dir):
         print(f"{run_dir} is complete ({RESULT} exists); nothing to do")
         return run_dir
-    ppo = to_dataclass(cfg, RLCfg).rl.ppo
     runner = build_runner(cfg, run_dir)
     wall = time.time()
     start = 0
@@ -111,6 +112,7 @@ def last_measured_success(curve: list[dict]) -> float | None:
 
 
 @hydra.main(config_path="../conf", config_name="rl", version_base="1.3")
+@entry_point
 def main(cfg: DictConfig) -> None:
     run_dir = train(cfg)
     eval_episodes = to_dataclass(cfg, RLCfg).eval_episodes

@@ -16,6 +16,7 @@ from torch import nn
 from transformers import Gemma2Config, PaliGemmaConfig, PaliGemmaForConditionalGeneration, SiglipVisionConfig
 from transformers.models.paligemma.modeling_paligemma import PaliGemmaModel
 
+from mobilemani_rl.registry import MissingFileError
 from mobilemani_vla.config import ModelCfg
 
 
@@ -44,7 +45,7 @@ def load_paligemma(
 ) -> PaliGemmaModel:
     """Pretrained weights from a local directory only (no hub access), in `dtype`; the LM head is dropped."""
     if not (Path(path) / "config.json").is_file():
-        raise FileNotFoundError(
+        raise MissingFileError(
             f"no PaliGemma checkpoint at {path} (model.pretrained_path needs config.json + "
             "safetensors; real PaliGemma-2 weights must be placed on disk by hand)"
         )

@@ -19,10 +19,12 @@ import shutil
 from pathlib import Path
 
 import torch
+from safetensors import safe_open
 from safetensors.torch import load_file, load_model, save_file, save_model
 from torch.optim.swa_utils import AveragedModel
 from transformers import PaliGemmaConfig, PreTrainedTokenizerBase
 
+from mobilemani_rl.registry import InputError, MissingFileError
 from mobilemani_vla.config import VLACfg, vla_cfg_from_yaml, vla_cfg_to_yaml
 from mobilemani_vla.model import MobileManiVLA, build_model
 from mobilemani_vla.normalizer import Normalizer
@@ -69,6 +71,23 @@ def finished_checkpoints(output_dir: Path) -> list[Path]:
     return sorted(p for p in root.iterdir() if p.name.startswith(PREFIX) and (p / STATE).is_file())
 
 
+def unreadable_weights(directory: Path) -> str | None:
+    """Why one of a checkpoint's safetensors files cannot be read (a disk fault, a copy cut short), naming
+    it; None when every header reads and matches the file's length."""
+    for path in sorted(directory.glob("*.safetensors")):
+        try:
+            with safe_open(str(path), "pt") as weights:
+                weights.keys()
+        except Exception as err:  # safetensors raises its own error types for every kind of damage
+            return f"{path}: {type(err).__name__}: {err}"
+    return None
+
+
+def check_weights(directory: Path) -> None:
+    if (why := unreadable_weights(directory)) is not None:
+        raise InputError(f"unreadable checkpoint weights {why}")
+
+
 def publish(tmp: Path, final: Path, keep: int) -> None:
     """Rename a complete temporary checkpoint into place and drop the oldest beyond `keep`."""
     if final.exists():
@@ -107,11 +126,11 @@ def trained_weights(directory: Path) -> dict[str, torch.Tensor]:
     if (directory / FSDP_WEIGHTS).is_file():
         return torch.load(directory / FSDP_WEIGHTS, map_location="cpu", weights_only=True)
     if (directory / FSDP_SHARDS).is_dir():
-        raise FileNotFoundError(
+        raise MissingFileError(
             f"{directory} holds sharded FSDP weights only; merge them first: accelerate "
             f"merge-weights {directory / FSDP_SHARDS} {directory}"
         )
-    raise FileNotFoundError(
+    raise MissingFileError(
         f"{directory} is not a complete MobileManiVLA checkpoint (no {WEIGHTS} or {FSDP_WEIGHTS})"
     )
 
@@ -122,7 +141,8 @@ def load_checkpoint(
     """The evaluated model: the moving-average weights when the run kept them, else the trained ones."""
     directory = Path(directory)
     if not (directory / STATE).is_file():
-        raise FileNotFoundError(f"{directory} is not a complete MobileManiVLA checkpoint (no {STATE})")
+        raise MissingFileError(f"{directory} is not a complete MobileManiVLA checkpoint (no {STATE})")
+    check_weights(directory)
     cfg = vla_cfg_from_yaml((directory / "config.yaml").read_text())
     tokenizer = load_tokenizer(directory / "tokenizer")
     model = build_model(cfg, tokenizer, PaliGemmaConfig.from_json_file(directory / "backbone_config.json"))

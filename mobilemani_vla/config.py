@@ -9,6 +9,7 @@ from dataclasses import dataclass, field
 from omegaconf import OmegaConf
 
 from mobilemani_rl.envs.config import RobotChoiceCfg
+from mobilemani_rl.registry import InputError, check_positive
 from mobilemani_rl.schema import register_schema, to_dataclass
 from mobilemani_vla.augment import AugmentCfg
 from mobilemani_vla.dit import DIT_PRESETS
@@ -142,21 +143,32 @@ class VLACfg:
         return ROBOT_ACTION_DIMS[self.robot]
 
     def validate(self) -> VLACfg:
-        """Stop with one message naming the valid choices."""
+        """Stop with one message naming the key and the valid choices (before anything is written)."""
+        t = self.train
+        check_positive(
+            {
+                "train.steps": t.steps,
+                "train.batch_size": t.batch_size,
+                "train.log_every": t.log_every,
+                "train.save_every": t.save_every,
+                "train.keep_checkpoints": t.keep_checkpoints,
+            }
+        )
+        _choices("train.logger", [t.logger], ("wandb", "none"))
         _choices("robot", [self.robot], ROBOT_ACTION_DIMS)
         _choices("inputs.cameras", self.inputs.cameras, CAMERAS)
         _choices("inputs.states", self.inputs.states, STATES)
         _choices("model.dit", [self.model.dit], DIT_PRESETS)
         _choices("model.dtype", [self.model.dtype], DTYPES)
         if not self.inputs.cameras:
-            raise ValueError(f"inputs.cameras must name at least one of {list(CAMERAS)}")
+            raise InputError(f"inputs.cameras must name at least one of {list(CAMERAS)}")
         return self
 
 
 def _choices(kind: str, values: list[str], valid) -> None:
     bad = [v for v in values if v not in valid]
     if bad or len(set(values)) != len(values):
-        raise ValueError(f"invalid {kind} {values}: each must be one of {list(valid)}, without repeats")
+        raise InputError(f"invalid {kind} {values}: each must be one of {list(valid)}, without repeats")
 
 
 @dataclass

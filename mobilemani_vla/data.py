@@ -19,7 +19,8 @@ from lerobot.datasets.lerobot_dataset import LeRobotDataset
 from torch.utils.data import Dataset
 
 from mobilemani_data import schema
-from mobilemani_data.metadata import check_dataset_files
+from mobilemani_data.metadata import open_dataset_metadata
+from mobilemani_rl.registry import InputError, MissingFileError
 from mobilemani_vla.config import VLACfg
 from mobilemani_vla.frame_cache import cached_images
 from mobilemani_vla.normalizer import Normalizer
@@ -40,18 +41,17 @@ def required_features(cfg: VLACfg) -> list[str]:
 def open_metadata(cfg: VLACfg) -> LeRobotDatasetMetadata:
     """The dataset's metadata; stops with one message if there is no dataset or it does not fit the config."""
     root = Path(cfg.data.root)
-    if not (root / "meta" / "info.json").is_file():
-        raise FileNotFoundError(
+    if not (root / "meta").is_dir():
+        raise MissingFileError(
             f"no LeRobot dataset at {root} (set data.root; export one with mobilemani_data)"
         )
-    meta = LeRobotDatasetMetadata(cfg.data.repo_id, root=root)
-    check_dataset_files(meta)
+    meta = open_dataset_metadata(cfg.data.repo_id, root)
     missing = [k for k in required_features(cfg) if k not in meta.features]
     if missing:
-        raise KeyError(f"dataset {root} lacks features {missing} needed by inputs {cfg.inputs}")
+        raise InputError(f"dataset {root} lacks features {missing} needed by inputs {cfg.inputs}")
     have = tuple(meta.features[schema.ACTION]["shape"])
     if have != (cfg.action_dim,):
-        raise ValueError(f"dataset actions have shape {have} but robot={cfg.robot} needs ({cfg.action_dim},)")
+        raise InputError(f"dataset actions have shape {have} but robot={cfg.robot} needs ({cfg.action_dim},)")
     return meta
 
 
@@ -91,7 +91,7 @@ def split_episodes(episodes: list[int], heldout: int, seed: int) -> tuple[np.nda
     """(training, held-out) episode indices; the held-out ones are a seeded random choice."""
     episodes = np.asarray(sorted(episodes))
     if heldout >= len(episodes):
-        raise ValueError(f"data.heldout_episodes={heldout} leaves no training episode of {len(episodes)}")
+        raise InputError(f"data.heldout_episodes={heldout} leaves no training episode of {len(episodes)}")
     chosen = np.random.default_rng(seed).choice(len(episodes), size=heldout, replace=False)
     mask = np.zeros(len(episodes), bool)
     mask[chosen] = True

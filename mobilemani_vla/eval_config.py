@@ -6,7 +6,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass, field
 
-from mobilemani_rl.envs.config import EnvCfg, EnvParamsCfg, RobotChoiceCfg
+from mobilemani_rl.envs.config import EnvCfg, EnvParamsCfg, RobotChoiceCfg, check_env_not_set
 from mobilemani_rl.registry import check_positive
 from mobilemani_rl.schema import register_schema
 from mobilemani_rl.tasks import SubsetCfg
@@ -71,6 +71,7 @@ class EvalCfg:
                 "subset.objects_per_category": self.subset.objects_per_category,
             }
         )
+        check_env_not_set(self.env, {"num_envs": "episodes_per_batch", "seed": "seed"})
         return self
 
 

@@ -25,10 +25,12 @@ import hydra
 from omegaconf import DictConfig, OmegaConf
 
 from mobilemani_rl.assets.robots import get_robot
+from mobilemani_rl.cli import entry_point
 from mobilemani_rl.envs.config import TaskCfg, with_env_task
 from mobilemani_rl.envs.mobilemani_env import MobileManiEnv
 from mobilemani_rl.io import write_json_atomic
 from mobilemani_rl.progress import Progress
+from mobilemani_rl.registry import InputError
 from mobilemani_rl.schema import to_dataclass
 from mobilemani_rl.tasks import Combination, recording_env_cfg, select_combinations
 from mobilemani_rl.video import HeadCameraRecorder
@@ -96,7 +98,7 @@ def evaluate(cfg: EvalCfg, policy: EvalPolicy | None = None) -> dict:
     """Run every missing episode of the selected protocol; returns the summary of the results file."""
     size = cfg.batch_size
     if cfg.subset.episodes % size:
-        raise ValueError(
+        raise InputError(
             f"subset.episodes ({cfg.subset.episodes}) must be a multiple of episodes_per_batch "
             f"({size}) so that every episode keeps its seed"
         )
@@ -104,7 +106,7 @@ def evaluate(cfg: EvalCfg, policy: EvalPolicy | None = None) -> dict:
     policy = policy or build_policy(cfg.policy)
     expected = get_robot(cfg.robot).action_dim
     if policy.action_dim not in (None, expected):
-        raise ValueError(
+        raise InputError(
             f"{policy.name} predicts {policy.action_dim}-d actions but robot={cfg.robot} takes "
             f"{expected}-d ones; evaluate it with the robot it was trained for"
         )
@@ -147,6 +149,7 @@ def evaluate(cfg: EvalCfg, policy: EvalPolicy | None = None) -> dict:
 
 
 @hydra.main(config_path="../conf", config_name="eval", version_base="1.3")
+@entry_point
 def main(cfg: DictConfig) -> None:
     print(json.dumps(evaluate(to_dataclass(with_env_task(cfg), EvalCfg).check_counts())["overall"], indent=2))
 

@@ -14,6 +14,8 @@ from tokenizers import Tokenizer, normalizers, pre_tokenizers, processors
 from tokenizers.models import WordLevel
 from transformers import AutoTokenizer, PreTrainedTokenizerBase, PreTrainedTokenizerFast
 
+from mobilemani_rl.registry import MissingFileError
+
 SPECIAL_TOKENS = ("<pad>", "<eos>", "<bos>", "<unk>")
 PROMPT_WORDS = ("what", "action", "should", "the", "robot", "take", "to", "?", "in", ":", "out")
 LOCATION_WORDS = (
@@ -95,7 +97,7 @@ def load_tokenizer(path: str | Path | None, texts: Iterable[str] = ()) -> PreTra
     if path is None:
         return build_word_tokenizer(texts)
     if not Path(path).is_dir():
-        raise FileNotFoundError(f"tokenizer directory {path} does not exist (set model.tokenizer_path)")
+        raise MissingFileError(f"tokenizer directory {path} does not exist (set model.tokenizer_path)")
     tokenizer = AutoTokenizer.from_pretrained(str(path), local_files_only=True)
     tokenizer.padding_side = "left"  # the cognition token then sits at position -1 of every row
     return tokenizer

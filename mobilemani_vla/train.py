@@ -26,6 +26,8 @@ from torch.utils.data import DataLoader
 from tqdm import tqdm
 from transformers import PreTrainedTokenizerBase
 
+from mobilemani_rl.cli import entry_point
+from mobilemani_rl.registry import InputError
 from mobilemani_rl.schema import to_dataclass
 from mobilemani_vla.augment import augment_images
 from mobilemani_vla.checkpoint import (
@@ -36,6 +38,7 @@ from mobilemani_vla.checkpoint import (
     publish,
     save_artifacts,
     save_gathered_weights,
+    unreadable_weights,
 )
 from mobilemani_vla.config import ROOT_ONLY, VLACfg, vla_cfg_from_yaml
 from mobilemani_vla.data import fit_normalizer, open_data, open_metadata
@@ -61,18 +64,26 @@ def _batches(loader: DataLoader):
 
 
 def _resume_point(cfg: VLACfg, output_dir: Path) -> Path | None:
-    """The newest checkpoint to continue from; one of another model/input/diffusion setup is refused."""
+    """The newest readable checkpoint to continue from (an unreadable one is named and skipped); one of
+    another model/input/diffusion setup is refused."""
     found = finished_checkpoints(output_dir) if cfg.train.resume else []
     if not found:
         return None
     saved = vla_cfg_from_yaml((found[-1] / "config.yaml").read_text())
     fields = ("robot", "model", "inputs", "diffusion")
-    if any(getattr(saved, f) != getattr(cfg, f) for f in fields):
-        raise ValueError(
-            f"{found[-1]} was trained with a different {'/'.join(fields)} config; choose another "
+    if differing := [f for f in fields if getattr(saved, f) != getattr(cfg, f)]:
+        raise InputError(
+            f"{found[-1]} was trained with a different {'/'.join(differing)} config; choose another "
             "train.output_dir or set train.resume=false"
         )
-    return found[-1]
+    for checkpoint in reversed(found):
+        if (why := unreadable_weights(checkpoint)) is None:
+            return checkpoint
+        print(f"skipping an unreadable checkpoint: {why}", flush=True)
+    raise InputError(
+        f"no readable checkpoint in {output_dir / 'checkpoints'}; delete the damaged ones named above "
+        "or set train.resume=false"
+    )
 
 
 def _load_resume_artifacts(
@@ -113,7 +124,7 @@ def train(cfg: VLACfg) -> TrainResult:
     set_seed(cfg.train.seed)
     per_device, rest = divmod(cfg.train.batch_size, accelerator.num_processes)
     if rest or per_device == 0:
-        raise ValueError(
+        raise InputError(
             f"train.batch_size={cfg.train.batch_size} must split evenly over "
             f"{accelerator.num_processes} processes"
         )
@@ -249,6 +260,7 @@ def train(cfg: VLACfg) -> TrainResult:
 
 
 @hydra.main(config_path="../conf", config_name="vla", version_base="1.3")
+@entry_point
 def main(cfg: DictConfig) -> None:
     train(to_dataclass(cfg, VLACfg, ignore=ROOT_ONLY).validate())
 

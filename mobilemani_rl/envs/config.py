@@ -12,6 +12,8 @@ from typing import Any
 
 from omegaconf import DictConfig, OmegaConf
 
+from mobilemani_rl.registry import InputError
+
 
 @dataclass
 class PhysicsCfg:
@@ -123,6 +125,19 @@ class EnvParamsCfg:
 @dataclass
 class EnvCfg(EnvParamsCfg):
     task: TaskCfg = field(default_factory=TaskCfg)
+
+
+def check_env_not_set(env: EnvParamsCfg, set_by: dict[str, str]) -> None:
+    """Env keys an entry point sets itself (e.g. env.num_envs from rl.ppo.num_envs) must keep their defaults:
+    a value given there would be replaced without a word."""
+    defaults = EnvParamsCfg()
+    given = [
+        f"env.{key}={getattr(env, key)} (set it through {owner})"
+        for key, owner in set_by.items()
+        if getattr(env, key) != getattr(defaults, key)
+    ]
+    if given:
+        raise InputError(f"this entry point sets these env keys itself: {', '.join(given)}")
 
 
 def with_env_task(cfg: DictConfig) -> dict[str, Any]:

@@ -13,12 +13,13 @@ import numpy as np
 
 from mobilemani_rl.envs.config import EnvCfg
 from mobilemani_rl.envs.mobilemani_env import MobileManiEnv, StepResult
+from mobilemani_rl.registry import InputError
 
 
 class MultiObjectEnv:
     def __init__(self, cfg: EnvCfg, object_ids: list[str]) -> None:
         if cfg.num_envs < len(object_ids):
-            raise ValueError(f"{cfg.num_envs} envs cannot hold {len(object_ids)} objects; use more envs")
+            raise InputError(f"{cfg.num_envs} envs cannot hold {len(object_ids)} objects; use more envs")
         self.cfg = cfg
         sizes = np.diff(np.linspace(0, cfg.num_envs, len(object_ids) + 1).astype(int))
         self.envs = [

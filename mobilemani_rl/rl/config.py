@@ -7,8 +7,12 @@ from __future__ import annotations
 import copy
 from dataclasses import dataclass, field, fields
 
-from mobilemani_rl.envs.config import EnvCfg, EnvParamsCfg, TaskCfg
+from mobilemani_rl.envs.config import EnvCfg, EnvParamsCfg, TaskCfg, check_env_not_set
+from mobilemani_rl.registry import InputError, check_choice, check_positive
 from mobilemani_rl.schema import register_schema
+
+LOGGERS = ("tensorboard", "wandb")
+SCHEDULES = ("adaptive", "fixed")  # rsl-rl's PPO learning-rate schedules
 
 
 @dataclass
@@ -83,6 +87,42 @@ class RLCfg:
     logger: str = "tensorboard"  # tensorboard | wandb (offline unless WANDB_MODE says otherwise)
     wandb_project: str = "mobilemanibench"
 
+    def check(self) -> RLCfg:
+        """Every value checked before a run directory is written, each error naming its key."""
+        # imported here: the schema module stays light (no torch, no object catalogue) for config tools
+        from rsl_rl.utils import resolve_nn_activation
+
+        from mobilemani_rl.assets.objects import ALL_SKILLS, CATEGORIES, check_skill, get_object
+        from mobilemani_rl.assets.robots import get_robot
+
+        ppo = self.rl.ppo
+        check_positive(
+            {
+                "rl.ppo.num_envs": ppo.num_envs,
+                "rl.ppo.num_steps_per_env": ppo.num_steps_per_env,
+                "rl.ppo.max_iterations": ppo.max_iterations,
+                "rl.ppo.save_interval": ppo.save_interval,
+                "rl.ppo.num_learning_epochs": ppo.num_learning_epochs,
+                "rl.ppo.num_mini_batches": ppo.num_mini_batches,
+                "objects_per_policy": self.objects_per_policy,
+            }
+        )
+        if self.eval_episodes < 0:
+            raise InputError(f"eval_episodes={self.eval_episodes} must be 0 (no evaluation) or more")
+        check_choice(self.logger, LOGGERS, "logger")
+        check_choice(ppo.schedule, SCHEDULES, "rl.ppo.schedule")
+        try:
+            resolve_nn_activation(ppo.activation)
+        except ValueError as err:
+            raise InputError(f"rl.ppo.activation: {err}") from err
+        get_robot(self.task.robot)
+        if self.task.object in CATEGORIES:
+            check_choice(self.task.skill, ALL_SKILLS, "skill")
+        else:
+            check_skill(get_object(self.task.object), self.task.skill)
+        check_env_not_set(self.env, {"num_envs": "rl.ppo.num_envs", "seed": "rl.ppo.seed"})
+        return self
+
     def env_cfg(self) -> EnvCfg:
         """The env block with the task: a copy, free to change."""
         params = {f.name: getattr(self.env, f.name) for f in fields(EnvParamsCfg)}
@@ -97,6 +137,14 @@ class EvalRlCfg:
     episodes: int = 256  # per evaluated object; the paper evaluates 1024
     seed: int = 1000  # evaluation seeds differ from training's
     video_episodes: int = 0  # head-camera MP4s of the first k episodes
+
+    def check(self) -> EvalRlCfg:
+        if self.checkpoint is None:
+            raise InputError("checkpoint=<path to a model_*.pt> is required")
+        check_positive({"episodes": self.episodes})
+        if self.video_episodes < 0:
+            raise InputError(f"video_episodes={self.video_episodes} must be 0 (no videos) or more")
+        return self
 
 
 register_schema("rl_schema", RLCfg)

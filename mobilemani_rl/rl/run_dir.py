@@ -12,6 +12,8 @@ from pathlib import Path
 
 from omegaconf import DictConfig, OmegaConf
 
+from mobilemani_rl.registry import InputError
+
 CONFIG = "config.yaml"
 RESULT = "result.json"
 CURVE = "curve.json"
@@ -22,7 +24,7 @@ WARM_START_CHECKPOINT = (
 _CHECKPOINT = re.compile(r"model_(\d+)\.pt$")
 
 
-class ConfigMismatchError(ValueError):
+class ConfigMismatchError(InputError):
     """Resuming a run with a config that differs from the one it was started with."""
 
 
@@ -58,7 +60,29 @@ def save_or_check_config(run_dir: Path, cfg: DictConfig, keys: tuple[str, ...]) 
         k for k in keys if OmegaConf.to_container(saved.get(k)) != OmegaConf.to_container(current.get(k))
     ]
     if differing:
+        old, new = _leaves(saved, differing), _leaves(current, differing)
+        changes = [
+            f"{k}: {old.get(k)} -> {new.get(k)}"
+            for k in sorted(old.keys() | new.keys())
+            if old.get(k) != new.get(k)
+        ]
         raise ConfigMismatchError(
-            f"{run_dir} was started with a different {', '.join(differing)} config; "
+            f"{run_dir} was started with a different {', '.join(differing)} config ({'; '.join(changes)}); "
             f"resume with the saved {path} or choose another run_dir"
         )
+
+
+def _leaves(cfg: DictConfig, keys: list[str]) -> dict[str, object]:
+    """The values under `keys` by dotted path, e.g. {"rl.ppo.max_iterations": 300}."""
+    out: dict[str, object] = {}
+
+    def walk(prefix: str, value: object) -> None:
+        if isinstance(value, dict):
+            for k, v in value.items():
+                walk(f"{prefix}.{k}", v)
+        else:
+            out[prefix] = value
+
+    for key in keys:
+        walk(key, OmegaConf.to_container(cfg.get(key)))
+    return out

@@ -2,7 +2,7 @@
 
 from __future__ import annotations
 
-from mobilemani_rl.registry import check_choice
+from mobilemani_rl.registry import InputError, check_choice
 from mobilemani_vla.eval_config import PolicyCfg
 from mobilemani_vla.policies.base import EvalPolicy
 
@@ -12,7 +12,7 @@ KINDS = ("vla", "lerobot", "teacher", "scripted", "random")
 def build_policy(cfg: PolicyCfg) -> EvalPolicy:
     check_choice(cfg.kind, KINDS, "policy kind")
     if cfg.kind in ("vla", "lerobot") and cfg.checkpoint is None:
-        raise ValueError(f"policy.kind={cfg.kind} needs policy.checkpoint=<checkpoint directory>")
+        raise InputError(f"policy.kind={cfg.kind} needs policy.checkpoint=<checkpoint directory>")
     if cfg.kind == "vla":
         from mobilemani_vla.policies.vla import VLAEvalPolicy
 

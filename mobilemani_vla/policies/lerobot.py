@@ -22,6 +22,7 @@ import torch
 import torch.nn.functional as F
 
 from mobilemani_data import schema
+from mobilemani_rl.registry import MissingFileError
 from mobilemani_vla.policies.base import TASK, EvalPolicy, Observation, active_rows, scatter_rows
 
 
@@ -41,7 +42,7 @@ class LeRobotEvalPolicy(EvalPolicy):
 
         path = Path(checkpoint)
         if not (path / "config.json").is_file():
-            raise FileNotFoundError(
+            raise MissingFileError(
                 f"no LeRobot policy (config.json) in {path}; pass its pretrained_model dir"
             )
         config = PreTrainedConfig.from_pretrained(path)
@@ -50,7 +51,7 @@ class LeRobotEvalPolicy(EvalPolicy):
         # A local backbone directory (SmolVLA without downloads) must still be where training left it;
         # transformers would otherwise take the path for a hub id and fail with an unrelated message.
         if backbone and Path(backbone).is_absolute() and not Path(backbone).is_dir():
-            raise FileNotFoundError(
+            raise MissingFileError(
                 f"{config.type}'s VLM backbone directory {backbone} (config and tokenizer) is missing; write "
                 "it again with `python -m mobilemani_vla.smolvla_backbone` and the sizes it was trained with"
             )
