@@ -60,3 +60,160 @@ def test_a_checkpoint_from_an_older_dataset_layout_is_refused_by_name():
     )
     with pytest.raises(KeyError, match=r"no \['observation.state'\].*older dataset layout"):
         VLAProcessor(build_word_tokenizer(), old_bounds, ["head_rgb"], ["wrist_pose"], 32, "{instruction}")
+
+
+# ---------------------------------------------------- one line per bad input, before anything is written
+ROOT = Path(__file__).resolve().parents[1]
+
+
+def compose_root(name: str, overrides: list[str]):
+    from hydra import compose, initialize_config_dir
+
+    with initialize_config_dir(config_dir=str(ROOT / "conf"), version_base="1.3"):
+        return compose(config_name=name, overrides=overrides)
+
+
+def test_entry_points_end_bad_input_with_one_line_and_keep_tracebacks_for_bugs(tmp_path, capsys):
+    import subprocess
+    import sys
+
+    from mobilemani_rl.cli import entry_point
+    from mobilemani_rl.registry import InputError
+
+    @entry_point
+    def bad() -> None:
+        raise InputError("rl.ppo.num_envs=0 must be at least 1")
+
+    with pytest.raises(SystemExit) as stop:
+        bad()
+    assert stop.value.code == 2 and capsys.readouterr().err == "error: rl.ppo.num_envs=0 must be at least 1\n"
+    with pytest.raises(ZeroDivisionError):  # a bug keeps its traceback
+        entry_point(lambda: 1 / 0)()
+    # As a user runs it: exit 2, one line on stderr, nothing written.
+    done = subprocess.run(
+        [sys.executable, "-m", "mobilemani_data.collect", "data/subset=tiny", "subset.episodes=-2"]
+        + [f"data_dir={tmp_path / 'data'}"],
+        cwd=ROOT,
+        capture_output=True,
+        text=True,
+        env={**__import__("os").environ, "PYTHONPATH": str(ROOT)},
+    )
+    assert done.returncode == 2 and done.stderr == "error: these must be at least 1: subset.episodes=-2\n"
+    assert not (tmp_path / "data").exists()
+
+
+@pytest.mark.parametrize(
+    ("override", "named"),
+    [
+        ("rl.ppo.num_envs=0", "rl.ppo.num_envs=0"),
+        ("rl.ppo.max_iterations=-1", "rl.ppo.max_iterations=-1"),
+        ("task.object=nope/0000", "unknown object 'nope/0000'; valid objects: box/0000"),
+        ("task.skill=fly", "unknown skill 'fly'; valid skills: close, open"),
+        ("logger=foo", "unknown logger 'foo'; valid loggers: tensorboard, wandb"),
+        ("rl.ppo.activation=foo", "rl.ppo.activation: Invalid activation function 'foo'"),
+        ("env.num_envs=4", r"env.num_envs=4 \(set it through rl.ppo.num_envs\)"),
+        ("env.seed=4", r"env.seed=4 \(set it through rl.ppo.seed\)"),
+    ],
+)
+def test_rl_training_checks_its_config_before_writing_the_run_dir(tmp_path, override, named):
+    from mobilemani_rl.registry import InputError
+    from mobilemani_rl.train import train
+
+    with pytest.raises(InputError, match=named):
+        train(compose_root("rl", ["rl/ppo=tiny", f"run_dir={tmp_path / 'run'}", override]))
+    assert not (tmp_path / "run").exists()
+
+
+def test_env_keys_that_data_and_evaluation_set_are_refused(tmp_path):
+    from mobilemani_rl.envs.config import with_env_task
+    from mobilemani_rl.schema import to_dataclass
+    from mobilemani_vla.eval_config import EvalCfg
+
+    with pytest.raises(ValueError, match=r"env.seed=3 \(set it through collect.seed\)"):
+        tiny_cfg(tmp_path, "env.seed=3")
+    cfg = compose_root("eval", ["env.num_envs=4"])
+    with pytest.raises(ValueError, match=r"env.num_envs=4 \(set it through episodes_per_batch\)"):
+        to_dataclass(with_env_task(cfg), EvalCfg).check_counts()
+
+
+def test_rl_evaluation_names_its_keys():
+    from mobilemani_rl.rl.config import EvalRlCfg
+
+    with pytest.raises(ValueError, match="checkpoint=<path to a model_.*.pt> is required"):
+        EvalRlCfg().check()
+    with pytest.raises(ValueError, match="episodes=0"):
+        EvalRlCfg(checkpoint="model_1.pt", episodes=0).check()
+
+
+def test_a_changed_run_names_each_changed_key(tmp_path):
+    from mobilemani_rl.rl.run_dir import ConfigMismatchError, save_or_check_config
+
+    run_dir = tmp_path / "run"
+    save_or_check_config(run_dir, compose_root("rl", ["rl/ppo=tiny", f"run_dir={run_dir}"]), ("rl",))
+    (run_dir / "model_2.pt").touch()  # it has something to resume
+    changed = compose_root("rl", ["rl/ppo=tiny", f"run_dir={run_dir}", "rl.ppo.max_iterations=5"])
+    with pytest.raises(ConfigMismatchError, match=r"\(rl.ppo.max_iterations: 3 -> 5\)"):
+        save_or_check_config(run_dir, changed, ("rl",))
+
+
+def test_an_unknown_video_encoder_is_refused_by_its_key():
+    from mobilemani_data.config import ExportCfg
+    from mobilemani_data.export import check_streams
+
+    with pytest.raises(ValueError, match="export.vcodec='foo' is no video encoder"):
+        check_streams(ExportCfg(vcodec="foo"))
+    check_streams(ExportCfg(vcodec="h264"))
+
+
+def test_vla_training_counts_and_logger_name_their_keys():
+    from mobilemani_vla.config import VLACfg
+
+    cfg = VLACfg()
+    cfg.train.steps, cfg.train.batch_size = 0, -1
+    with pytest.raises(ValueError, match=r"train.steps=0, train.batch_size=-1"):
+        cfg.validate()
+    cfg = VLACfg()
+    cfg.train.logger = "tensorboard"
+    with pytest.raises(ValueError, match=r"train.logger \['tensorboard'\]"):
+        cfg.validate()
+
+
+@pytest.mark.parametrize(
+    ("deleted", "named"), [("meta/tasks.parquet", "meta/tasks.parquet"), ("meta/episodes", "meta/episodes")]
+)
+def test_a_deleted_metadata_file_is_named(tmp_path, deleted, named):
+    import shutil
+
+    from mobilemani_data.metadata import open_dataset_metadata
+
+    root = write_synthetic_dataset(tmp_path / "g1", episodes=1, length=5)
+    open_dataset_metadata("synthetic/g1", root)
+    victim = root / deleted
+    shutil.rmtree(victim) if victim.is_dir() else victim.unlink()
+    with pytest.raises(FileNotFoundError, match=named):
+        open_dataset_metadata("synthetic/g1", root)
+
+
+def test_a_damaged_vla_checkpoint_is_named_and_training_resumes_from_the_previous_one(tmp_path, capsys):
+    import json
+
+    import torch
+    from safetensors.torch import save_file
+
+    from mobilemani_vla.checkpoint import check_weights, checkpoint_dir
+    from mobilemani_vla.config import VLACfg, vla_cfg_to_yaml
+    from mobilemani_vla.train import _resume_point
+
+    cfg = VLACfg()
+    for step in (1, 2):
+        directory = checkpoint_dir(tmp_path, step)
+        directory.mkdir(parents=True)
+        (directory / "config.yaml").write_text(vla_cfg_to_yaml(cfg))
+        (directory / "trainer_state.json").write_text(json.dumps({"step": step}))
+        save_file({"w": torch.zeros(64)}, str(directory / "model.safetensors"))
+    damaged = checkpoint_dir(tmp_path, 2) / "model.safetensors"
+    damaged.write_bytes(damaged.read_bytes()[:40])  # a copy cut short
+    with pytest.raises(ValueError, match=f"unreadable checkpoint weights {damaged}"):
+        check_weights(damaged.parent)
+    assert _resume_point(cfg, tmp_path) == checkpoint_dir(tmp_path, 1)
+    assert f"skipping an unreadable checkpoint: {damaged}" in capsys.readouterr().out
