@@ -33,7 +33,7 @@ from mobilemani_data.shards import Shard, ShardError, read_shard, shard_paths
 from mobilemani_rl.assets.robots import RobotDescription, get_robot
 from mobilemani_rl.cli import entry_point
 from mobilemani_rl.envs.config import with_env_task
-from mobilemani_rl.registry import InputError, MissingFileError
+from mobilemani_rl.registry import InputError, MissingFileError, OutputExistsError
 from mobilemani_rl.render import CameraRenderCfg, CameraRenderer
 from mobilemani_rl.schema import to_dataclass
 
@@ -185,7 +185,7 @@ def export(cfg: DataCfg) -> ExportReport:
         print(f"{root} is up to date with {len(paths)} shards and these export settings; skipped", flush=True)
         return ExportReport(root, existing["episodes"], existing["frames"], existing["skipped"], reused=True)
     if root.exists() and not cfg.export.overwrite:
-        raise FileExistsError(
+        raise OutputExistsError(
             f"{root} exists and was exported from other shards or settings; "
             "pass export.overwrite=true to replace it"
         )

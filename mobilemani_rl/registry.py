@@ -14,8 +14,16 @@ class MissingFileError(InputError, FileNotFoundError):
     """An input file or directory that does not exist; the message names it."""
 
 
+class OutputExistsError(InputError, FileExistsError):
+    """An output made from other inputs or settings is in the way; the message says how to replace it."""
+
+
 class UnknownNameError(InputError):
     """An unknown robot, object, skill or scene name."""
+
+
+class ConfigMismatchError(InputError):
+    """Continuing a run (training or evaluation) with settings other than those it was started with."""
 
 
 def check_choice(value: str, choices: Iterable[str], kind: str) -> str:

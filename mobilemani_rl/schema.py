@@ -27,3 +27,32 @@ def to_dataclass[T](cfg: DictConfig | dict[str, Any], schema: type[T], ignore: t
     for key in ("hydra", *ignore):
         plain.pop(key, None)
     return OmegaConf.to_object(OmegaConf.merge(OmegaConf.structured(schema), plain))
+
+
+def changed_values(old: dict[str, Any], new: dict[str, Any], keys: tuple[str, ...]) -> list[str]:
+    """'key.path: old -> new' for every leaf under the (dotted) `keys` whose value differs between two plain
+    configs."""
+
+    def leaves(prefix: str, value: object, out: dict[str, object]) -> dict[str, object]:
+        if isinstance(value, dict):
+            for k, v in value.items():
+                leaves(f"{prefix}.{k}", v, out)
+        else:
+            out[prefix] = value
+        return out
+
+    def get(cfg: dict[str, Any], dotted: str) -> object:
+        for part in dotted.split("."):
+            cfg = cfg.get(part) if isinstance(cfg, dict) else None
+        return cfg
+
+    before: dict[str, object] = {}
+    after: dict[str, object] = {}
+    for key in keys:
+        leaves(key, get(old, key), before)
+        leaves(key, get(new, key), after)
+    return [
+        f"{k}: {before.get(k)} -> {after.get(k)}"
+        for k in sorted(before.keys() | after.keys())
+        if before.get(k) != after.get(k)
+    ]

@@ -17,26 +17,14 @@ import argparse
 import json
 import time
 from collections.abc import Callable
-from pathlib import Path
 
 import torch
-from hydra import compose, initialize_config_dir
 
-from mobilemani_rl.schema import to_dataclass
-from mobilemani_vla.config import CAMERAS, ROOT_ONLY, VLACfg
+from mobilemani_vla.config import CAMERAS, VLACfg, compose_vla_cfg
 from mobilemani_vla.data import fit_normalizer, open_data
 from mobilemani_vla.model import MobileManiVLA, build_model
 from mobilemani_vla.processor import STATE_DIMS, VLAProcessor
 from mobilemani_vla.tokenizer import build_word_tokenizer
-
-CONF = str(Path(__file__).resolve().parents[1] / "conf")
-
-
-def compose_cfg(overrides: list[str]) -> VLACfg:
-    with initialize_config_dir(config_dir=CONF, version_base="1.3"):
-        return to_dataclass(
-            compose(config_name="vla", overrides=overrides), VLACfg, ignore=ROOT_ONLY
-        ).validate()
 
 
 def parameter_counts(model: MobileManiVLA) -> dict[str, int]:
@@ -75,7 +63,7 @@ def best_seconds(fn: Callable[[], None], runs: int) -> float:
 
 
 def bench(name: str, batch: int, steps: int, runs: int, cameras: int) -> dict:
-    cfg = compose_cfg([f"vla/model={name}", f"inputs.cameras=[{','.join(CAMERAS[:cameras])}]"])
+    cfg = compose_vla_cfg([f"vla/model={name}", f"inputs.cameras=[{','.join(CAMERAS[:cameras])}]"])
     torch.manual_seed(0)
     model = build_model(cfg, build_word_tokenizer())
     data = synthetic_batch(model, cfg, batch)
@@ -111,7 +99,7 @@ def bench_dataset(root: str, name: str, batch: int, steps: int) -> list[dict]:
     (same model, same batches size)."""
     out = []
     for cache in (False, True):
-        cfg = compose_cfg(
+        cfg = compose_vla_cfg(
             [
                 f"vla/model={name}",
                 f"data.root={root}",
@@ -155,7 +143,9 @@ def bench_dataset(root: str, name: str, batch: int, steps: int) -> list[dict]:
 
 
 def meta_counts() -> dict:
-    cfg = compose_cfg(["vla/model=paligemma2_3b", "model.pretrained_path=null", "model.tokenizer_path=null"])
+    cfg = compose_vla_cfg(
+        ["vla/model=paligemma2_3b", "model.pretrained_path=null", "model.tokenizer_path=null"]
+    )
     with torch.device("meta"):
         model = build_model(cfg, build_word_tokenizer())
     return {"model": "paligemma2_3b", "device": "meta", "params": parameter_counts(model)}

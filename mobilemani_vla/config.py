@@ -5,7 +5,9 @@ conf/vla/train, conf/experiment) change the defaults. A composed config converts
 from __future__ import annotations
 
 from dataclasses import dataclass, field
+from pathlib import Path
 
+from hydra import compose, initialize_config_dir
 from omegaconf import OmegaConf
 
 from mobilemani_rl.envs.config import RobotChoiceCfg
@@ -178,8 +180,18 @@ class VLARootCfg(VLACfg):
     task: RobotChoiceCfg = field(default_factory=RobotChoiceCfg)
 
 
+CONF_DIR = Path(__file__).resolve().parents[1] / "conf"
 ROOT_ONLY = ("task",)  # VLARootCfg's keys that VLACfg leaves out
 register_schema("vla_schema", VLARootCfg)
+
+
+def compose_vla_cfg(overrides: list[str]) -> VLACfg:
+    """conf/vla.yaml with command-line style overrides, as `python -m mobilemani_vla.train` would see it (for
+    benchmarks and tests, which run outside Hydra's entry point)."""
+    with initialize_config_dir(config_dir=str(CONF_DIR), version_base="1.3"):
+        return to_dataclass(
+            compose(config_name="vla", overrides=overrides), VLACfg, ignore=ROOT_ONLY
+        ).validate()
 
 
 def vla_cfg_from_yaml(text: str) -> VLACfg:

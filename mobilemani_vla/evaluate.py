@@ -30,8 +30,8 @@ from mobilemani_rl.envs.config import TaskCfg, with_env_task
 from mobilemani_rl.envs.mobilemani_env import MobileManiEnv
 from mobilemani_rl.io import write_json_atomic
 from mobilemani_rl.progress import Progress
-from mobilemani_rl.registry import InputError
-from mobilemani_rl.schema import to_dataclass
+from mobilemani_rl.registry import ConfigMismatchError, InputError
+from mobilemani_rl.schema import changed_values, to_dataclass
 from mobilemani_rl.tasks import Combination, recording_env_cfg, select_combinations
 from mobilemani_rl.video import HeadCameraRecorder
 from mobilemani_vla.eval_config import DEFAULT_IMAGE_SIZE, EvalCfg
@@ -94,6 +94,37 @@ def evaluate_block(cfg: EvalCfg, policy: EvalPolicy, combo: Combination, block: 
     ]
 
 
+# What decides an episode's outcome; a run's protocol (subset, split), videos and batching may change between
+# reruns of the same name, which then run only the missing episodes.
+RESULT_SETTINGS = (
+    "robot",
+    "policy.kind",
+    "policy.checkpoint",
+    "policy.runs_dir",
+    "policy.rename",
+    "episodes_per_batch",
+    "seed",
+    "ensemble",
+    "action_convention",
+    "image_size",
+    "env",
+)
+
+
+def check_same_settings(out: Path, settings: dict) -> None:
+    """A run directory that holds results keeps the settings they were made with: a rerun with other settings
+    would report the old episodes as its own."""
+    saved = out / "config.json"
+    if not saved.exists() or not any(p.stat().st_size for p in out.glob("*.jsonl")):
+        return
+    changes = changed_values(json.loads(saved.read_text())["eval"], settings, RESULT_SETTINGS)
+    if changes:
+        raise ConfigMismatchError(
+            f"{out} holds results made with other settings ({'; '.join(changes)}); "
+            "choose another name=... or delete that directory to start over"
+        )
+
+
 def evaluate(cfg: EvalCfg, policy: EvalPolicy | None = None) -> dict:
     """Run every missing episode of the selected protocol; returns the summary of the results file."""
     size = cfg.batch_size
@@ -103,6 +134,9 @@ def evaluate(cfg: EvalCfg, policy: EvalPolicy | None = None) -> dict:
             f"({size}) so that every episode keeps its seed"
         )
     combos = select_combinations(cfg.robot, cfg.subset)
+    out = run_dir(cfg)
+    settings = OmegaConf.to_container(OmegaConf.structured(cfg))
+    check_same_settings(out, settings)
     policy = policy or build_policy(cfg.policy)
     expected = get_robot(cfg.robot).action_dim
     if policy.action_dim not in (None, expected):
@@ -110,12 +144,8 @@ def evaluate(cfg: EvalCfg, policy: EvalPolicy | None = None) -> dict:
             f"{policy.name} predicts {policy.action_dim}-d actions but robot={cfg.robot} takes "
             f"{expected}-d ones; evaluate it with the robot it was trained for"
         )
-    out = run_dir(cfg)
     results = ResultsFile(out / f"{cfg.split_name}.jsonl")
-    write_json_atomic(
-        out / "config.json",
-        {"eval": OmegaConf.to_container(OmegaConf.structured(cfg)), "policy_inputs": sorted(policy.inputs)},
-    )
+    write_json_atomic(out / "config.json", {"eval": settings, "policy_inputs": sorted(policy.inputs)})
     todo = [
         (k, combo, block)
         for k, combo in enumerate(combos)

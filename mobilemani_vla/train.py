@@ -173,6 +173,8 @@ def train(cfg: VLACfg) -> TrainResult:
         start = checkpoint_step(resume_from)
         if ema is not None:
             load_ema(ema, resume_from)
+    # Every input is checked by now; the run directory is made here, not by Hydra before the checks.
+    output_dir.mkdir(parents=True, exist_ok=True)
     accelerator.init_trackers(
         "mobilemani_vla",
         config=asdict(cfg),

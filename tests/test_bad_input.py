@@ -146,7 +146,8 @@ def test_rl_evaluation_names_its_keys():
 
 
 def test_a_changed_run_names_each_changed_key(tmp_path):
-    from mobilemani_rl.rl.run_dir import ConfigMismatchError, save_or_check_config
+    from mobilemani_rl.registry import ConfigMismatchError
+    from mobilemani_rl.rl.run_dir import save_or_check_config
 
     run_dir = tmp_path / "run"
     save_or_check_config(run_dir, compose_root("rl", ["rl/ppo=tiny", f"run_dir={run_dir}"]), ("rl",))

@@ -13,6 +13,7 @@ from mobilemani_rl.base_frame import action_to_base
 from mobilemani_rl.envs.config import EnvCfg, TaskCfg, with_env_task
 from mobilemani_rl.envs.mobilemani_env import MobileManiEnv
 from mobilemani_rl.eval import evaluate as evaluate_teacher
+from mobilemani_rl.registry import ConfigMismatchError
 from mobilemani_rl.rl.config import RLCfg
 from mobilemani_rl.rl.run_dir import CONFIG, latest_checkpoint
 from mobilemani_rl.rollout import run_first_episodes
@@ -212,6 +213,15 @@ def test_small_protocol_runs_as_written_and_reports_totals_and_eta(tmp_path, cap
     ]
     evaluate(cfg)  # a finished protocol says so up front and runs nothing
     assert "2 episodes; 2 done, 0 to run" in capsys.readouterr().out
+    # Other settings under the same name would pass the old episodes off as theirs: refused, naming them.
+    changed = to_dataclass(
+        with_env_task(
+            compose_cfg("eval", [*protocol, f"output_dir={tmp_path / 'default'}", "env.episode_length=12"])
+        ),
+        EvalCfg,
+    ).check_counts()
+    with pytest.raises(ConfigMismatchError, match=r"env.episode_length: 20 -> 12"):
+        evaluate(changed)
 
 
 def test_tiny_vla_runs_the_protocol_end_to_end(tmp_path):

@@ -14,8 +14,9 @@ import torch
 from hydra import compose, initialize_config_dir
 
 from mobilemani_rl.eval import evaluate
+from mobilemani_rl.registry import ConfigMismatchError
 from mobilemani_rl.rl.factory import policy_objects
-from mobilemani_rl.rl.run_dir import ConfigMismatchError, latest_checkpoint, save_or_check_config
+from mobilemani_rl.rl.run_dir import latest_checkpoint, save_or_check_config
 from mobilemani_rl.train import train
 
 ROOT = Path(__file__).resolve().parents[1]

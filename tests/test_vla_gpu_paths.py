@@ -8,35 +8,24 @@ from pathlib import Path
 import numpy as np
 import pytest
 import torch
-from hydra import compose, initialize_config_dir
 from safetensors.torch import load_file
 from transformers import PaliGemmaForConditionalGeneration
 
-from mobilemani_rl.schema import to_dataclass
 from mobilemani_vla.backbone import paligemma_config
 from mobilemani_vla.checkpoint import EMA_WEIGHTS, FSDP_SHARDS, FSDP_WEIGHTS, WEIGHTS, load_checkpoint
-from mobilemani_vla.config import ROOT_ONLY, ModelCfg, VLACfg
+from mobilemani_vla.config import ModelCfg, compose_vla_cfg
 from mobilemani_vla.model import build_model
 from mobilemani_vla.policies.vla import VLAEvalPolicy
 from mobilemani_vla.synthetic import write_synthetic_dataset
 from mobilemani_vla.tokenizer import build_word_tokenizer, load_tokenizer
 from mobilemani_vla.train import train
 
-CONF = str(Path(__file__).resolve().parents[1] / "conf")
-
-
-def compose_vla(overrides: list[str]) -> VLACfg:
-    with initialize_config_dir(config_dir=CONF, version_base="1.3"):
-        return to_dataclass(
-            compose(config_name="vla", overrides=overrides), VLACfg, ignore=ROOT_ONLY
-        ).validate()
-
 
 @pytest.fixture(scope="module")
 def checkpoint(tmp_path_factory) -> Path:
     root = tmp_path_factory.mktemp("gpu_paths")
     data = write_synthetic_dataset(root / "g1", episodes=2, length=20)
-    cfg = compose_vla(
+    cfg = compose_vla_cfg(
         [
             "vla/model=tiny",
             f"data.root={data}",
@@ -82,7 +71,7 @@ def test_pretrained_backbone_loads_in_the_configured_dtype_and_feeds_a_float32_h
     torch.manual_seed(0)
     PaliGemmaForConditionalGeneration(paligemma_config(ModelCfg())).save_pretrained(tmp_path)
     build_word_tokenizer().save_pretrained(tmp_path)
-    cfg = compose_vla(
+    cfg = compose_vla_cfg(
         [f"model.pretrained_path={tmp_path}", f"model.tokenizer_path={tmp_path}", "model.dtype=bfloat16"]
     )
     model = build_model(cfg, load_tokenizer(tmp_path))
@@ -100,7 +89,7 @@ def test_pretrained_backbone_loads_in_the_configured_dtype_and_feeds_a_float32_h
     loss = model(batch)
     assert loss.dtype == torch.float32 and torch.isfinite(loss)
     with pytest.raises(ValueError, match="model.dtype"):
-        compose_vla(["model.dtype=int8"])
+        compose_vla_cfg(["model.dtype=int8"])
 
 
 def test_evaluation_noise_generator_lives_on_the_model_device(checkpoint):

@@ -1,30 +1,17 @@
 """MobileManiVLA building blocks: DiT head, cognition backbone, diffusion, normaliser, tokenizer, configs."""
 
-from pathlib import Path
-
 import numpy as np
 import pytest
 import torch
-from hydra import compose, initialize_config_dir
 from transformers.models.paligemma.modeling_paligemma import PaliGemmaModel
 
-from mobilemani_rl.schema import to_dataclass
 from mobilemani_vla.backbone import CognitionBackbone, paligemma_config
-from mobilemani_vla.config import ROOT_ONLY, ModelCfg, VLACfg
+from mobilemani_vla.config import ModelCfg, VLACfg, compose_vla_cfg
 from mobilemani_vla.diffusion import make_scheduler
 from mobilemani_vla.dit import DiT
 from mobilemani_vla.model import build_model
 from mobilemani_vla.normalizer import Normalizer
 from mobilemani_vla.tokenizer import build_word_tokenizer, load_tokenizer
-
-CONF = str(Path(__file__).resolve().parents[1] / "conf")
-
-
-def compose_vla(overrides: list[str]) -> VLACfg:
-    with initialize_config_dir(config_dir=CONF, version_base="1.3"):
-        return to_dataclass(
-            compose(config_name="vla", overrides=overrides), VLACfg, ignore=ROOT_ONLY
-        ).validate()
 
 
 def count(module: torch.nn.Module) -> int:
@@ -32,15 +19,15 @@ def count(module: torch.nn.Module) -> int:
 
 
 def test_default_yaml_equals_dataclass_defaults():
-    assert compose_vla([]) == VLACfg()
+    assert compose_vla_cfg([]) == VLACfg()
 
 
 def test_bad_choices_stop_with_the_valid_ones():
     with pytest.raises(ValueError, match="head_rgb"):
-        compose_vla(["inputs.cameras=[head_ir]"])
+        compose_vla_cfg(["inputs.cameras=[head_ir]"])
     with pytest.raises(Exception, match="xhand"):
-        compose_vla(["robot=h1"])
-    assert compose_vla(["robot=xhand"]).action_dim == 18
+        compose_vla_cfg(["robot=h1"])
+    assert compose_vla_cfg(["robot=xhand"]).action_dim == 18
 
 
 def test_dit_b_size_with_a_paligemma2_condition():
@@ -61,7 +48,9 @@ def test_dit_starts_at_zero_noise_and_drops_conditions():
 
 
 def test_paligemma2_3b_on_the_meta_device():
-    cfg = compose_vla(["vla/model=paligemma2_3b", "model.pretrained_path=null", "model.tokenizer_path=null"])
+    cfg = compose_vla_cfg(
+        ["vla/model=paligemma2_3b", "model.pretrained_path=null", "model.tokenizer_path=null"]
+    )
     with torch.device("meta"):
         model = build_model(cfg, build_word_tokenizer())
     backbone, head = count(model.backbone), count(model.head)
@@ -150,9 +139,11 @@ def test_backbone_and_tokenizer_load_from_a_local_pretrained_directory(tmp_path)
     saved = PaliGemmaForConditionalGeneration(paligemma_config(ModelCfg()))
     saved.save_pretrained(tmp_path)
     build_word_tokenizer().save_pretrained(tmp_path)
-    cfg = compose_vla([f"model.pretrained_path={tmp_path}", f"model.tokenizer_path={tmp_path}"])
+    cfg = compose_vla_cfg([f"model.pretrained_path={tmp_path}", f"model.tokenizer_path={tmp_path}"])
     model = build_model(cfg, load_tokenizer(cfg.model.tokenizer_path))
     for name, value in saved.model.state_dict().items():
         assert torch.equal(model.backbone.vlm.state_dict()[name], value), name
     with pytest.raises(FileNotFoundError, match="pretrained_path"):
-        build_model(compose_vla([f"model.pretrained_path={tmp_path / 'missing'}"]), build_word_tokenizer())
+        build_model(
+            compose_vla_cfg([f"model.pretrained_path={tmp_path / 'missing'}"]), build_word_tokenizer()
+        )

@@ -55,6 +55,13 @@ def tiny_cfg(root: Path, out: Path, overrides: list[str] = ()) -> VLACfg:
         ).validate()
 
 
+def test_a_new_output_directory_is_made_before_the_first_diagnostics(dataset_root, tmp_path):
+    out = tmp_path / "runs" / "new"
+    train(tiny_cfg(dataset_root, out, ["train.steps=2", "train.diagnose_every=1", "train.save_every=100"]))
+    lines = (out / "diagnostics.jsonl").read_text().splitlines()
+    assert [json.loads(line)["step"] for line in lines] == [1, 2]
+
+
 def test_forward_backward_on_a_dataset_batch(dataset_root, tmp_path):
     cfg = tiny_cfg(dataset_root, tmp_path)
     data = open_data(cfg, 32, progress=False)

@@ -12,7 +12,8 @@ from pathlib import Path
 
 from omegaconf import DictConfig, OmegaConf
 
-from mobilemani_rl.registry import InputError
+from mobilemani_rl.registry import ConfigMismatchError
+from mobilemani_rl.schema import changed_values
 
 CONFIG = "config.yaml"
 RESULT = "result.json"
@@ -22,10 +23,6 @@ WARM_START_CHECKPOINT = (
     "warm_start.pt"  # the runner right after the warm start (minutes of work a rerun keeps)
 )
 _CHECKPOINT = re.compile(r"model_(\d+)\.pt$")
-
-
-class ConfigMismatchError(InputError):
-    """Resuming a run with a config that differs from the one it was started with."""
 
 
 def checkpoints(run_dir: Path) -> list[Path]:
@@ -55,34 +52,11 @@ def save_or_check_config(run_dir: Path, cfg: DictConfig, keys: tuple[str, ...]) 
         run_dir.mkdir(parents=True, exist_ok=True)
         OmegaConf.save(current, path)
         return
-    saved = OmegaConf.load(path)
-    differing = [
-        k for k in keys if OmegaConf.to_container(saved.get(k)) != OmegaConf.to_container(current.get(k))
-    ]
+    saved, wanted = OmegaConf.to_container(OmegaConf.load(path)), OmegaConf.to_container(current)
+    differing = [k for k in keys if changed_values(saved, wanted, (k,))]
     if differing:
-        old, new = _leaves(saved, differing), _leaves(current, differing)
-        changes = [
-            f"{k}: {old.get(k)} -> {new.get(k)}"
-            for k in sorted(old.keys() | new.keys())
-            if old.get(k) != new.get(k)
-        ]
+        changes = changed_values(saved, wanted, tuple(differing))
         raise ConfigMismatchError(
             f"{run_dir} was started with a different {', '.join(differing)} config ({'; '.join(changes)}); "
             f"resume with the saved {path} or choose another run_dir"
         )
-
-
-def _leaves(cfg: DictConfig, keys: list[str]) -> dict[str, object]:
-    """The values under `keys` by dotted path, e.g. {"rl.ppo.max_iterations": 300}."""
-    out: dict[str, object] = {}
-
-    def walk(prefix: str, value: object) -> None:
-        if isinstance(value, dict):
-            for k, v in value.items():
-                walk(f"{prefix}.{k}", v)
-        else:
-            out[prefix] = value
-
-    for key in keys:
-        walk(key, OmegaConf.to_container(cfg.get(key)))
-    return out
