@@ -53,9 +53,9 @@ def save_or_check_config(run_dir: Path, cfg: DictConfig, keys: tuple[str, ...]) 
         OmegaConf.save(current, path)
         return
     saved, wanted = OmegaConf.to_container(OmegaConf.load(path)), OmegaConf.to_container(current)
-    differing = [k for k in keys if changed_values(saved, wanted, (k,))]
-    if differing:
-        changes = changed_values(saved, wanted, tuple(differing))
+    per_key = {k: changed_values(saved, wanted, (k,)) for k in keys}
+    if differing := [k for k, changes in per_key.items() if changes]:
+        changes = [change for k in differing for change in per_key[k]]
         raise ConfigMismatchError(
             f"{run_dir} was started with a different {', '.join(differing)} config ({'; '.join(changes)}); "
             f"resume with the saved {path} or choose another run_dir"
