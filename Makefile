@@ -169,7 +169,7 @@ lerobot: setup
 # tables and a report.
 # Every stage resumes or skips finished work, so a rerun after an interruption continues.
 DEMO ?= runs/demo
-DEMO_VLA_STEPS ?= 1200
+DEMO_VLA_STEPS ?= 800
 demo: setup
 	$(MAKE) rl ROBOT=g1 OBJECT=test/box SKILL=open ITERATIONS=300 RL_ARGS="run_dir=$(DEMO)/rl/g1/test/box/open"
 	$(MAKE) data ROBOT=g1 SUBSET=demo TEACHER=ppo DATA_ARGS="data_dir=$(DEMO)/data teacher.runs_dir=$(DEMO)/rl collect.action_noise=0.3 \

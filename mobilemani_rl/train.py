@@ -74,7 +74,14 @@ def train(cfg: DictConfig) -> Path:
             f"warm start: cloning the scripted policy before {ppo.max_iterations} PPO iterations "
             "(rl.ppo.warm_start.episodes=0 trains from scratch)"
         )
-        info = warm_start(runner.alg.actor, runner.alg.critic, runner.env.env, ppo.warm_start, ppo.gamma)
+        info = warm_start(
+            runner.alg.actor,
+            runner.alg.critic,
+            runner.env.env,
+            ppo.warm_start,
+            ppo.gamma,
+            fit_threads=ppo.update_threads,
+        )
         write_json_atomic(run_dir / WARM_START, {**info, "seconds": round(time.time() - wall, 1)})
         # last and atomic: only a finished warm start is kept, and a rerun starts PPO from it
         runner.save(str(warm))

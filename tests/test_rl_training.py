@@ -150,3 +150,22 @@ def test_an_unreadable_newest_checkpoint_falls_back_to_the_previous_one(tmp_path
     assert f"skipping an unreadable checkpoint: cannot load teacher checkpoint {newest}" in out
     assert "resuming" in out and (run_dir / "result.json").exists()
     assert [row["iteration"] for row in json.loads((run_dir / "curve.json").read_text())] == [0, 1, 2]
+
+
+def test_update_runs_with_its_own_thread_count(monkeypatch):
+    """Collection keeps `torch_threads` (MuJoCo has the cores); the PPO update runs with `update_threads`."""
+    from rsl_rl.algorithms import PPO
+
+    from mobilemani_rl.rl.factory import build_runner
+
+    seen: list[int] = []
+    monkeypatch.setattr(PPO, "update", lambda self: seen.append(torch.get_num_threads()) or {})
+    previous = torch.get_num_threads()
+    try:
+        runner = build_runner(
+            compose_rl(["rl/ppo=tiny", "rl.ppo.torch_threads=1", "rl.ppo.update_threads=2"]), run_dir=None
+        )
+        runner.alg.update()
+        assert seen == [2] and torch.get_num_threads() == 1
+    finally:
+        torch.set_num_threads(previous)

@@ -2,6 +2,10 @@
 against the raw physics limit of the same model and env count measured in the same run.
 
     python -m mobilemani_rl.rl.bench [--presets cpu paper] [--robots g1 xhand] [--iterations 3]
+                                     [--update-threads 1 2]
+
+--update-threads measures each preset with each count of torch threads for the network update (default: the
+preset's own), in the same run.
 
 Prints a table and JSON.
 """
@@ -23,9 +27,12 @@ from mobilemani_rl.schema import to_dataclass
 CONF = str(Path(__file__).resolve().parents[2] / "conf")
 
 
-def bench_preset(preset: str, robot: str, iterations: int) -> dict:
+def bench_preset(preset: str, robot: str, iterations: int, update_threads: int | None = None) -> dict:
+    overrides = [f"rl/ppo={preset}", f"robot={robot}"]
+    if update_threads is not None:
+        overrides.append(f"rl.ppo.update_threads={update_threads}")
     with initialize_config_dir(config_dir=CONF, version_base="1.3"):
-        cfg = compose(config_name="rl", overrides=[f"rl/ppo={preset}", f"robot={robot}"])
+        cfg = compose(config_name="rl", overrides=overrides)
     ppo = to_dataclass(cfg, RLCfg).rl.ppo
     runner = build_runner(cfg, run_dir=None)
     runner.learn(num_learning_iterations=1)  # warm-up: first rollout, normaliser, allocator
@@ -42,6 +49,7 @@ def bench_preset(preset: str, robot: str, iterations: int) -> dict:
         "preset": preset,
         "robot": robot,
         "num_envs": ppo.num_envs,
+        "update_threads": ppo.update_threads,
         "iterations": iterations,
         "samples_per_s": round(rate),
         "raw_env_steps_per_s": round(raw),
@@ -56,13 +64,19 @@ def main(argv: list[str] | None = None) -> list[dict]:
     parser.add_argument("--presets", nargs="+", default=["cpu", "paper"])
     parser.add_argument("--robots", nargs="+", default=["g1", "xhand"])
     parser.add_argument("--iterations", type=int, default=3)
+    parser.add_argument("--update-threads", type=int, nargs="+", default=[None])
     args = parser.parse_args(argv)
-    results = [bench_preset(p, r, args.iterations) for p in args.presets for r in args.robots]
+    results = [
+        bench_preset(p, r, args.iterations, threads)
+        for p in args.presets
+        for r in args.robots
+        for threads in args.update_threads
+    ]
     print_report(
         "ppo",
         results,
-        f"{'preset':6} {'robot':6} {'envs':>5} {'samples/s':>10} {'raw steps/s':>12} {'ppo/raw':>8}",
-        "{preset:6} {robot:6} {num_envs:5d} {samples_per_s:10d} {raw_env_steps_per_s:12d} "
+        f"{'preset':6} {'robot':6} {'envs':>5} {'update threads':>14} {'samples/s':>10} {'raw steps/s':>12} {'ppo/raw':>8}",
+        "{preset:6} {robot:6} {num_envs:5d} {update_threads:14d} {samples_per_s:10d} {raw_env_steps_per_s:12d} "
         "{ppo_over_raw:8.3f}",
     )
     return results

@@ -56,4 +56,10 @@ def build_runner(
     )
     run_name = f"{env_cfg.task.robot}/{env_cfg.task.object}/{env_cfg.task.skill}"
     train_cfg = rsl_rl_train_cfg(ppo, logger, run_name)
-    return MobileManiRunner(env, train_cfg, None if run_dir is None else str(run_dir), ppo.max_iterations)
+    return MobileManiRunner(
+        env,
+        train_cfg,
+        None if run_dir is None else str(run_dir),
+        ppo.max_iterations,
+        update_threads=ppo.update_threads,
+    )

@@ -7,6 +7,7 @@ import contextlib
 import io
 import json
 import os
+from collections.abc import Iterator
 from pathlib import Path
 
 import numpy as np
@@ -20,6 +21,18 @@ from mobilemani_rl.registry import InputError
 from mobilemani_rl.rl.run_dir import CURVE
 
 SUCCESS_KEY = "/episode/success_flag"
+
+
+@contextlib.contextmanager
+def torch_threads(threads: int) -> Iterator[None]:
+    """Run the block with `threads` torch threads (0: leave as is), then restore the previous count."""
+    previous = torch.get_num_threads()
+    if threads:
+        torch.set_num_threads(threads)
+    try:
+        yield
+    finally:
+        torch.set_num_threads(previous)
 
 
 class ProgressLogger(Logger):
@@ -67,9 +80,24 @@ def _episode_mean(extras: list[dict], key: str) -> float:
 
 
 class MobileManiRunner(OnPolicyRunner):
-    def __init__(self, env, train_cfg: dict, log_dir: str | None, total_iterations: int) -> None:
+    def __init__(
+        self,
+        env,
+        train_cfg: dict,
+        log_dir: str | None,
+        total_iterations: int,
+        update_threads: int = 0,
+    ) -> None:
         with contextlib.redirect_stdout(io.StringIO()):  # model summaries
             super().__init__(env, train_cfg, log_dir=log_dir, device="cpu")
+        update = self.alg.update
+
+        def threaded_update(*args, **kwargs):
+            # collection keeps few torch threads so MuJoCo has the cores; the update has them to itself
+            with torch_threads(update_threads):
+                return update(*args, **kwargs)
+
+        self.alg.update = threaded_update
         self.logger = ProgressLogger(
             log_dir=log_dir,
             cfg=self.cfg,

@@ -25,6 +25,7 @@ from mobilemani_rl.envs.batched import BatchedEnv
 from mobilemani_rl.envs.mobilemani_env import MobileManiEnv, StepResult
 from mobilemani_rl.envs.multi_object import MultiObjectEnv
 from mobilemani_rl.rl.config import WarmStartCfg
+from mobilemani_rl.rl.runner import torch_threads
 from mobilemani_rl.rollout import run_first_episodes
 from mobilemani_rl.scripted import ScriptedPolicy
 
@@ -145,8 +146,10 @@ def warm_start(
     env: BatchedEnv,
     cfg: WarmStartCfg,
     gamma: float,
+    fit_threads: int = 0,
 ) -> dict:
-    """Clone the scripted policy into the actor, fit the critic to its returns and set the action noise.
+    """Clone the scripted policy into the actor, fit the critic to its returns and set the action noise
+    (the fitting with `fit_threads` torch threads: MuJoCo is idle then).
 
     The env is left reset, so that training starts from fresh episodes.
     """
@@ -155,8 +158,9 @@ def warm_start(
     for model in (actor, critic):  # the normalisers start from the scripted states, as PPO's policy would see
         model.train()
         model.update_normalization(obs)
-    actor_losses = fit(actor, demos.obs, demos.actions, cfg, "actor")
-    critic_losses = fit(critic, demos.obs, demos.returns, cfg, "critic")
+    with torch_threads(fit_threads):
+        actor_losses = fit(actor, demos.obs, demos.actions, cfg, "actor")
+        critic_losses = fit(critic, demos.obs, demos.returns, cfg, "critic")
     with torch.no_grad():
         actor.distribution.std_param.fill_(cfg.noise_std)
     env.reset(seed=cfg.seed)
