@@ -75,9 +75,10 @@ def main(argv: list[str] | None = None) -> list[dict]:
     print_report(
         "ppo",
         results,
-        f"{'preset':6} {'robot':6} {'envs':>5} {'update threads':>14} {'samples/s':>10} {'raw steps/s':>12} {'ppo/raw':>8}",
-        "{preset:6} {robot:6} {num_envs:5d} {update_threads:14d} {samples_per_s:10d} {raw_env_steps_per_s:12d} "
-        "{ppo_over_raw:8.3f}",
+        f"{'preset':6} {'robot':6} {'envs':>5} {'update threads':>14} {'samples/s':>10} "
+        f"{'raw steps/s':>12} {'ppo/raw':>8}",
+        "{preset:6} {robot:6} {num_envs:5d} {update_threads:14d} {samples_per_s:10d} "
+        "{raw_env_steps_per_s:12d} {ppo_over_raw:8.3f}",
     )
     return results
 

@@ -64,7 +64,7 @@ class PpoCfg:
     init_at_random_ep_len: bool = True
     seed: int = 42
     torch_threads: int = 0  # threads while collecting (policy inference beside MuJoCo); 0: torch's default
-    # threads for the network updates (PPO epochs, warm-start fitting), when MuJoCo is idle; 0: torch's default
+    # threads for the network updates (PPO epochs, warm-start fitting), MuJoCo idle; 0: torch's default
     update_threads: int = 0
     warm_start: WarmStartCfg = field(default_factory=WarmStartCfg)
 
