@@ -12,7 +12,7 @@ PYTHON312 ?= $(shell for c in python3.12 $$(pyenv root 2>/dev/null)/versions/3.1
 
 ROBOT ?= g1
 
-.PHONY: setup test test-slow lint bench bench-sim bench-ppo clean-venv rl tables vla bench-vla demo eval
+.PHONY: setup test test-slow lint bench bench-sim bench-ppo clean-venv rl teachers tables vla bench-vla demo eval
 
 setup: $(VENV)/.installed
 
@@ -47,8 +47,8 @@ bench-ppo: setup
 
 # PPO teacher (Hydra root conf/rl.yaml), then 256 evaluation episodes:
 #   make rl ROBOT=g1 [OBJECT=test/box SKILL=open PPO=cpu|paper ITERATIONS=300]; OBJECT may be a category (multi-object
-#   policy). ITERATIONS empty: the preset's (cpu: a ~2 min warm start + 3000 iterations = 12.3 M samples, about 40 min
-#   on 2 cores, what test/can pick needs; test/box open is solved with ITERATIONS=300, about 6 min).
+#   policy). ITERATIONS empty: the preset's (cpu: a 2-3.5 min warm start + 3000 iterations = 12.3 M samples, 40-60 min
+#   on 2 cores, what test/can pick needs; test/box open is solved with ITERATIONS=300, 6-10 min).
 OBJECT ?= test/box
 SKILL ?= open
 PPO ?= cpu
@@ -57,6 +57,19 @@ RL_ARGS ?=
 rl: setup
 	$(PY) -m mobilemani_rl.train robot=$(ROBOT) task.object=$(OBJECT) task.skill=$(SKILL) rl/ppo=$(PPO) \
 		$(if $(ITERATIONS),rl.ppo.max_iterations=$(ITERATIONS)) eval_episodes=256 $(RL_ARGS)
+
+# The teacher table: one category-level teacher per category-skill row (39 for g1), each evaluated on the category's
+# train and test objects; rows run in turn, a finished row is skipped and an interrupted one resumes, so rerunning
+# continues. Results (JSON, per-row and paper tables, Markdown + LaTeX) go to TEACHERS_OUT, checkpoints to TEACHERS.
+#   make teachers ROBOT=g1 [TEACHER_ARGS="--categories box laptop --skills open"]
+TEACHERS ?= runs/teachers
+TEACHERS_OUT ?= docs/results/teachers
+TEACHER_ITERATIONS ?= 300
+TEACHER_ARGS ?=
+# warm start from 128 scripted episodes per object: the 8 train objects of a row give a single-object run's 1024
+teachers: setup
+	$(PY) -m mobilemani_rl.teacher_sweep --robot $(ROBOT) --runs $(TEACHERS) --out $(TEACHERS_OUT)/$(ROBOT) \
+		rl.ppo.max_iterations=$(TEACHER_ITERATIONS) rl.ppo.warm_start.episodes=128 $(TEACHER_ARGS)
 
 # Tables (Markdown + LaTeX) and bar plots from teacher evaluations and closed-loop results.
 RL_RUNS ?= runs/rl
@@ -162,14 +175,16 @@ lerobot: setup
 	$(MAKE) eval ROBOT=$(ROBOT) POLICY=lerobot NAME=lerobot_$(LEROBOT_POLICY) \
 		CHECKPOINT=$(LEROBOT_LAST)/pretrained_model
 
-# The whole chain at small scale (about 24 minutes on 2 cores): a PPO teacher for g1 opening test/box, 48 episodes from
+# The whole chain at small scale (24 minutes on the faster of our 2-core machines, ~37 on the slower one, where PyTorch
+# runs at half the speed: docs/results/demo/short_schedules.md): a PPO teacher for g1 opening test/box, 48 episodes from
 # it in eight train rooms (executed with action noise, DART; 64 px, H.264), the CPU recipe's VLA (vla/model=cpu
 # vla/train=cpu, DEMO_VLA_STEPS steps at learning rate 1e-3: 50% vs 40% at the recipe's 3e-4 in the same rooms,
 # docs/results/demo/lr_1e-3.md), closed-loop evaluation of both over 20 episodes in the four unseen test rooms,
-# tables and a report.
+# tables and a report (no rollout video: it doubles the evaluation on 2 cores; add EVAL_ARGS video_episodes=1 to
+# `make eval` for one).
 # Every stage resumes or skips finished work, so a rerun after an interruption continues.
 DEMO ?= runs/demo
-DEMO_VLA_STEPS ?= 800
+DEMO_VLA_STEPS ?= 1200
 demo: setup
 	$(MAKE) rl ROBOT=g1 OBJECT=test/box SKILL=open ITERATIONS=300 RL_ARGS="run_dir=$(DEMO)/rl/g1/test/box/open"
 	$(MAKE) data ROBOT=g1 SUBSET=demo TEACHER=ppo DATA_ARGS="data_dir=$(DEMO)/data teacher.runs_dir=$(DEMO)/rl collect.action_noise=0.3 \
@@ -180,7 +195,7 @@ demo: setup
 	$(MAKE) eval ROBOT=g1 POLICY=teacher PROTOCOL=demo NAME=teacher \
 		EVAL_ARGS="output_dir=$(DEMO)/eval policy.runs_dir=$(DEMO)/rl"
 	$(MAKE) eval ROBOT=g1 POLICY=vla PROTOCOL=demo NAME=vla CHECKPOINT=$(DEMO)/vla/checkpoints/step_$(shell printf %08d $(DEMO_VLA_STEPS)) \
-		EVAL_ARGS="output_dir=$(DEMO)/eval video_episodes=1"
+		EVAL_ARGS="output_dir=$(DEMO)/eval"
 	$(MAKE) tables RL_RUNS=$(DEMO)/rl EVAL_RESULTS=$(DEMO)/eval TABLES=$(DEMO)/tables MAIN_RUN=vla
 	$(PY) -m scripts.demo_report $(DEMO)
 

@@ -17,7 +17,7 @@ from pathlib import Path
 
 import numpy as np
 
-from mobilemani_rl.assets.objects import CATEGORIES, OBJECTS, catalog_ids
+from mobilemani_rl.assets.objects import CATEGORIES, OBJECTS, SPLITS, catalog_ids
 from mobilemani_rl.tables import Table, pct
 
 ROBOTS = ("g1", "xhand")
@@ -42,13 +42,14 @@ def newest_results(root: Path) -> list[dict]:
     return [json.loads(p.read_text()) for p in newest.values()]
 
 
-def object_success(results: list[dict]) -> dict[tuple[str, str, str], float]:
-    """(robot, object id, skill) -> success rate."""
+def object_success(results: list[dict], split: str | None = None) -> dict[tuple[str, str, str], float]:
+    """(robot, object id, skill) -> success rate over the objects of `split` (None: all evaluated objects)."""
     table = {}
     for result in results:
         task = result["task"]
         for object_id, entry in result["objects"].items():
-            table[(task["robot"], object_id, task["skill"])] = entry["success_rate"]
+            if split is None or entry["split"] == split:
+                table[(task["robot"], object_id, task["skill"])] = entry["success_rate"]
     return table
 
 
@@ -109,21 +110,28 @@ def main() -> None:
     )
     parser.add_argument("root", nargs="?", type=Path, default=Path("runs/rl"))
     parser.add_argument("--out", type=Path, default=None)
+    parser.add_argument("--split", choices=SPLITS, default=None, help="only objects of this split")
     args = parser.parse_args()
-    success = object_success(newest_results(args.root))
+    success = object_success(newest_results(args.root), args.split)
     if not success:  # not an error: `make tables` goes on to the VLA tables, which may have results
         print(
             f"missing input: no teacher evaluation (eval_*.json) under {args.root}; `make rl` writes one, or "
             "python -m mobilemani_rl.eval checkpoint=<run>/model_<it>.pt. The teacher tables hold the "
             "paper's numbers only."
         )
-    tables = {"rl_by_skill": skill_table(success), "rl_by_category": category_table(success)}
-    for name, table in tables.items():
+    for table in write_tables(success, args.out):
         print(table.markdown())
-        if args.out is not None:
-            args.out.mkdir(parents=True, exist_ok=True)
-            (args.out / f"{name}.md").write_text(table.markdown())
-            (args.out / f"{name}.tex").write_text(table.latex())
+
+
+def write_tables(success: dict[tuple[str, str, str], float], out: Path | None) -> list[Table]:
+    """The by-skill and by-category tables, also written to `out` as .md and .tex (None: not written)."""
+    tables = {"rl_by_skill": skill_table(success), "rl_by_category": category_table(success)}
+    if out is not None:
+        out.mkdir(parents=True, exist_ok=True)
+        for name, table in tables.items():
+            (out / f"{name}.md").write_text(table.markdown())
+            (out / f"{name}.tex").write_text(table.latex())
+    return list(tables.values())
 
 
 if __name__ == "__main__":

@@ -1,4 +1,5 @@
-"""Write the `make demo` report: what each stage produced, with the tables, plots and a rollout video.
+"""Write the `make demo` report: what each stage produced, with the tables, plots and a rollout video if
+one was recorded.
 
     python scripts/demo_report.py runs/demo
 
@@ -108,6 +109,8 @@ def eval_section(demo: Path, out: Path) -> list[str]:
     video = newest(list((demo / "eval" / "g1").rglob("*.mp4")))
     if video is not None:
         lines += ["", f"Rollout video (head camera): [{video.relative_to(demo)}]({video.relative_to(out)})"]
+    else:  # the demo records none: on 2 cores a video doubles the evaluation
+        lines += ["", 'No rollout video: add `EVAL_ARGS="video_episodes=1"` to `make eval` to record one.']
     return lines + [""]
 
 

@@ -1,0 +1,170 @@
+"""A teacher for every category-skill row of a robot (the paper's teacher table), resumable:
+
+    python -m mobilemani_rl.teacher_sweep --robot g1 [--runs runs/teachers] [--out docs/results/teachers]
+        [--categories box laptop] [--skills open] [hydra overrides, e.g. rl.ppo.max_iterations=300]
+
+Each row trains one category-level policy on up to `objects_per_policy` of the category's train objects
+(`python -m mobilemani_rl.train robot=<robot> task.object=<category> task.skill=<skill>`) and evaluates it on
+all of the category's train and test objects (`eval_episodes` seeded episodes each). Rows run one after
+another; a row whose evaluation exists is skipped, and an interrupted row resumes from its newest checkpoint
+(training's own resume), so rerunning the same command continues where it stopped. After every row the sweep
+rewrites `<out>/teachers_<robot>.json` and `.md` (per row: test and train success, samples, wall minutes, the
+command that recreates it) and the paper's teacher tables computed on test objects (`rl_by_skill`,
+`rl_by_category`). Checkpoints stay under `--runs`.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import time
+from pathlib import Path
+
+import numpy as np
+from hydra import compose, initialize_config_dir
+
+from mobilemani_rl.assets.objects import ALL_SKILLS, CATEGORIES, catalog_ids, get_object
+from mobilemani_rl.cli import entry_point
+from mobilemani_rl.eval import evaluate
+from mobilemani_rl.io import write_json_atomic
+from mobilemani_rl.registry import InputError, check_choice
+from mobilemani_rl.rl.config import RLCfg
+from mobilemani_rl.rl.run_dir import RESULT, is_complete, latest_checkpoint
+from mobilemani_rl.schema import to_dataclass
+from mobilemani_rl.teacher_tables import newest_results, object_success, write_tables
+from mobilemani_rl.train import train
+
+CONF = str(Path(__file__).resolve().parents[1] / "conf")
+EVAL_SEED = 1000  # the seed `python -m mobilemani_rl.train eval_episodes=N` evaluates with
+WALL = "sweep_seconds.json"  # wall seconds spent on a row, summed over the sweep's attempts
+
+
+def rows(categories: list[str] | None = None, skills: list[str] | None = None) -> list[tuple[str, str]]:
+    """(category, skill) rows in catalog order: articulated categories open/close, carts pull/push, pick."""
+    return [
+        (category, skill)
+        for category in categories or CATEGORIES
+        for skill in get_object(catalog_ids(category)[0]).skills
+        if skills is None or skill in skills
+    ]
+
+
+def row_overrides(robot: str, category: str, skill: str, runs: Path, overrides: list[str]) -> list[str]:
+    """The row's training command (as Hydra overrides); the evaluation's episodes default to 64 per object."""
+    default = [] if any(o.startswith("eval_episodes=") for o in overrides) else ["eval_episodes=64"]
+    return [
+        *default,
+        f"robot={robot}",
+        f"task.object={category}",
+        f"task.skill={skill}",
+        f"run_dir={runs / robot / category / skill}",
+        *overrides,
+    ]
+
+
+def evaluation_file(run_dir: Path) -> Path | None:
+    checkpoint = latest_checkpoint(run_dir) if is_complete(run_dir) else None
+    if checkpoint is None:
+        return None
+    path = run_dir / f"eval_{checkpoint.stem}_{EVAL_SEED}.json"
+    return path if path.is_file() else None
+
+
+def run_row(overrides: list[str]) -> None:
+    """Train (or resume) the row's policy, then evaluate its final checkpoint; adds the wall time spent."""
+    with initialize_config_dir(config_dir=CONF, version_base="1.3"):
+        cfg = compose(config_name="rl", overrides=overrides)
+    run_dir = Path(cfg.run_dir)
+    episodes = to_dataclass(cfg, RLCfg).check().eval_episodes
+    start = time.time()
+    try:
+        train(cfg)
+        evaluate(latest_checkpoint(run_dir), episodes, seed=EVAL_SEED)
+    finally:  # an interrupted attempt's time counts too
+        if run_dir.is_dir():
+            spent = json.loads((run_dir / WALL).read_text())["seconds"] if (run_dir / WALL).is_file() else 0
+            write_json_atomic(run_dir / WALL, {"seconds": round(spent + time.time() - start, 1)})
+
+
+def row_record(robot: str, category: str, skill: str, run_dir: Path, command: str) -> dict:
+    """What the tables need from a finished row: success on test and on trained objects, cost, command."""
+    evaluation = json.loads(evaluation_file(run_dir).read_text())
+    result = json.loads((run_dir / RESULT).read_text())
+    objects = evaluation["objects"].values()
+    test = [o["success_rate"] for o in objects if o["split"] == "test"]
+    return {
+        "robot": robot,
+        "category": category,
+        "skill": skill,
+        "test_success": float(np.mean(test)) if test else None,
+        "train_success": evaluation["success_rate"],  # the trained objects
+        "test_objects": len(test),
+        "trained_objects": sum(o["trained"] for o in objects),
+        "episodes_per_object": evaluation["episodes_per_object"],
+        "samples": result["samples"],
+        "wall_minutes": round(json.loads((run_dir / WALL).read_text())["seconds"] / 60, 1)
+        if (run_dir / WALL).is_file()
+        else None,
+        "command": command,
+    }
+
+
+def pct(value: float | None) -> str:
+    return "-" if value is None else f"{100 * value:.1f}"
+
+
+def rows_markdown(records: list[dict], total: int) -> str:
+    lines = [
+        f"{len(records)} of {total} rows finished. Success (%) over the category's test objects (not trained "
+        "on) and over the trained train objects.",
+        "",
+        "| category | skill | test success | train success | test / trained objects | samples | wall min |",
+        "|---|---|---:|---:|---:|---:|---:|",
+    ]
+    lines += [
+        f"| {r['category']} | {r['skill']} | {pct(r['test_success'])} | {pct(r['train_success'])} | "
+        f"{r['test_objects']} / {r['trained_objects']} | {r['samples']:,} | {r['wall_minutes']} |"
+        for r in records
+    ]
+    return "\n".join(lines) + "\n"
+
+
+def main(argv: list[str] | None = None) -> None:
+    parser = argparse.ArgumentParser(
+        description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter
+    )
+    parser.add_argument("--robot", default="g1")
+    parser.add_argument("--runs", type=Path, default=Path("runs/teachers"))
+    parser.add_argument("--out", type=Path, default=Path("docs/results/teachers"))
+    parser.add_argument("--categories", nargs="+", default=None)
+    parser.add_argument("--skills", nargs="+", default=None)
+    parser.add_argument("overrides", nargs="*", help="Hydra overrides for every row (conf/rl.yaml)")
+    args = parser.parse_args(argv)
+    for category in args.categories or []:
+        check_choice(category, CATEGORIES, "category")
+    for skill in args.skills or []:
+        check_choice(skill, ALL_SKILLS, "skill")
+    todo = rows(args.categories, args.skills)
+    # every row's config is checked before the first one trains
+    for category, skill in todo:
+        with initialize_config_dir(config_dir=CONF, version_base="1.3"):
+            overrides = row_overrides(args.robot, category, skill, args.runs, args.overrides)
+            if to_dataclass(compose(config_name="rl", overrides=overrides), RLCfg).check().eval_episodes < 1:
+                raise InputError("eval_episodes must be >= 1: every row is evaluated on its test objects")
+    records = []
+    for k, (category, skill) in enumerate(todo):
+        overrides = row_overrides(args.robot, category, skill, args.runs, args.overrides)
+        run_dir = args.runs / args.robot / category / skill
+        print(f"[row {k + 1}/{len(todo)}] {args.robot} {category} {skill}: {run_dir}", flush=True)
+        if evaluation_file(run_dir) is None:
+            run_row(overrides)
+        command = "python -m mobilemani_rl.train " + " ".join(overrides)
+        records.append(row_record(args.robot, category, skill, run_dir, command))
+        args.out.mkdir(parents=True, exist_ok=True)
+        write_json_atomic(args.out / f"teachers_{args.robot}.json", records)
+        (args.out / f"teachers_{args.robot}.md").write_text(rows_markdown(records, len(todo)))
+        write_tables(object_success(newest_results(args.runs), split="test"), args.out)
+
+
+if __name__ == "__main__":
+    entry_point(main)()
