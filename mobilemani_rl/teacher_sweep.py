@@ -36,7 +36,7 @@ from mobilemani_rl.train import train
 
 CONF = str(Path(__file__).resolve().parents[1] / "conf")
 EVAL_SEED = 1000  # the seed `python -m mobilemani_rl.train eval_episodes=N` evaluates with
-WALL = "sweep_seconds.json"  # wall seconds spent on a row, summed over the sweep's attempts
+WALL = "sweep_seconds.json"  # wall seconds of a row, summed over its finished or Ctrl-C'd attempts
 
 
 def rows(categories: list[str] | None = None, skills: list[str] | None = None) -> list[tuple[str, str]]:
@@ -80,7 +80,7 @@ def run_row(overrides: list[str]) -> None:
     try:
         train(cfg)
         evaluate(latest_checkpoint(run_dir), episodes, seed=EVAL_SEED)
-    finally:  # an interrupted attempt's time counts too
+    finally:  # an interrupted (Ctrl-C) attempt's time counts too; a killed one's is lost
         if run_dir.is_dir():
             spent = json.loads((run_dir / WALL).read_text())["seconds"] if (run_dir / WALL).is_file() else 0
             write_json_atomic(run_dir / WALL, {"seconds": round(spent + time.time() - start, 1)})
