@@ -175,7 +175,7 @@ lerobot: setup
 	$(MAKE) eval ROBOT=$(ROBOT) POLICY=lerobot NAME=lerobot_$(LEROBOT_POLICY) \
 		CHECKPOINT=$(LEROBOT_LAST)/pretrained_model
 
-# The whole chain at small scale (24 minutes on the faster of our 2-core machines, ~37 on the slower one, where PyTorch
+# The whole chain at small scale (24 minutes on the faster of our 2-core machines, 35 on the slower one, where PyTorch
 # runs at half the speed: docs/results/demo/short_schedules.md): a PPO teacher for g1 opening test/box, 48 episodes from
 # it in eight train rooms (executed with action noise, DART; 64 px, H.264), the CPU recipe's VLA (vla/model=cpu
 # vla/train=cpu, DEMO_VLA_STEPS steps at learning rate 1e-3: 50% vs 40% at the recipe's 3e-4 in the same rooms,
