@@ -22,6 +22,7 @@ from pathlib import Path
 
 import numpy as np
 from hydra import compose, initialize_config_dir
+from omegaconf import DictConfig
 
 from mobilemani_rl.assets.objects import ALL_SKILLS, CATEGORIES, catalog_ids, get_object
 from mobilemani_rl.cli import entry_point
@@ -31,6 +32,7 @@ from mobilemani_rl.registry import InputError, check_choice
 from mobilemani_rl.rl.config import RLCfg
 from mobilemani_rl.rl.run_dir import RESULT, is_complete, latest_checkpoint
 from mobilemani_rl.schema import to_dataclass
+from mobilemani_rl.tables import pct
 from mobilemani_rl.teacher_tables import newest_results, object_success, write_tables
 from mobilemani_rl.train import train
 
@@ -70,20 +72,31 @@ def evaluation_file(run_dir: Path) -> Path | None:
     return path if path.is_file() else None
 
 
-def run_row(overrides: list[str]) -> None:
-    """Train (or resume) the row's policy, then evaluate its final checkpoint; adds the wall time spent."""
+def checked_row_config(overrides: list[str]) -> DictConfig:
+    """The row's composed config, every value checked (before any row trains)."""
     with initialize_config_dir(config_dir=CONF, version_base="1.3"):
         cfg = compose(config_name="rl", overrides=overrides)
+    if to_dataclass(cfg, RLCfg).check().eval_episodes < 1:
+        raise InputError("eval_episodes must be >= 1: every row is evaluated on its test objects")
+    return cfg
+
+
+def spent_seconds(run_dir: Path) -> float | None:
+    path = run_dir / WALL
+    return json.loads(path.read_text())["seconds"] if path.is_file() else None
+
+
+def run_row(cfg: DictConfig) -> None:
+    """Train (or resume) the row's policy, then evaluate its final checkpoint; adds the wall time spent."""
     run_dir = Path(cfg.run_dir)
-    episodes = to_dataclass(cfg, RLCfg).check().eval_episodes
     start = time.time()
     try:
         train(cfg)
-        evaluate(latest_checkpoint(run_dir), episodes, seed=EVAL_SEED)
+        evaluate(latest_checkpoint(run_dir), cfg.eval_episodes, seed=EVAL_SEED)
     finally:  # an interrupted (Ctrl-C) attempt's time counts too; a killed one's is lost
         if run_dir.is_dir():
-            spent = json.loads((run_dir / WALL).read_text())["seconds"] if (run_dir / WALL).is_file() else 0
-            write_json_atomic(run_dir / WALL, {"seconds": round(spent + time.time() - start, 1)})
+            spent = (spent_seconds(run_dir) or 0) + time.time() - start
+            write_json_atomic(run_dir / WALL, {"seconds": round(spent, 1)})
 
 
 def row_record(robot: str, category: str, skill: str, run_dir: Path, command: str) -> dict:
@@ -102,15 +115,9 @@ def row_record(robot: str, category: str, skill: str, run_dir: Path, command: st
         "trained_objects": sum(o["trained"] for o in objects),
         "episodes_per_object": evaluation["episodes_per_object"],
         "samples": result["samples"],
-        "wall_minutes": round(json.loads((run_dir / WALL).read_text())["seconds"] / 60, 1)
-        if (run_dir / WALL).is_file()
-        else None,
+        "wall_minutes": None if (spent := spent_seconds(run_dir)) is None else round(spent / 60, 1),
         "command": command,
     }
-
-
-def pct(value: float | None) -> str:
-    return "-" if value is None else f"{100 * value:.1f}"
 
 
 def rows_markdown(records: list[dict], total: int) -> str:
@@ -145,20 +152,15 @@ def main(argv: list[str] | None = None) -> None:
     for skill in args.skills or []:
         check_choice(skill, ALL_SKILLS, "skill")
     todo = rows(args.categories, args.skills)
-    # every row's config is checked before the first one trains
-    for category, skill in todo:
-        with initialize_config_dir(config_dir=CONF, version_base="1.3"):
-            overrides = row_overrides(args.robot, category, skill, args.runs, args.overrides)
-            if to_dataclass(compose(config_name="rl", overrides=overrides), RLCfg).check().eval_episodes < 1:
-                raise InputError("eval_episodes must be >= 1: every row is evaluated on its test objects")
+    overrides = [row_overrides(args.robot, c, s, args.runs, args.overrides) for c, s in todo]
+    configs = [checked_row_config(o) for o in overrides]  # every row checked before the first one trains
     records = []
-    for k, (category, skill) in enumerate(todo):
-        overrides = row_overrides(args.robot, category, skill, args.runs, args.overrides)
-        run_dir = args.runs / args.robot / category / skill
+    for k, ((category, skill), row_args, cfg) in enumerate(zip(todo, overrides, configs, strict=True)):
+        run_dir = Path(cfg.run_dir)
         print(f"[row {k + 1}/{len(todo)}] {args.robot} {category} {skill}: {run_dir}", flush=True)
         if evaluation_file(run_dir) is None:
-            run_row(overrides)
-        command = "python -m mobilemani_rl.train " + " ".join(overrides)
+            run_row(cfg)
+        command = "python -m mobilemani_rl.train " + " ".join(row_args)
         records.append(row_record(args.robot, category, skill, run_dir, command))
         args.out.mkdir(parents=True, exist_ok=True)
         write_json_atomic(args.out / f"teachers_{args.robot}.json", records)
