@@ -16,7 +16,7 @@ class SimView:
 
     # Each becomes an attribute of the same name: a live view, so writes reach the batch.
     FIELDS = tuple(
-        "qpos qvel ctrl mocap_pos mocap_quat qacc xpos xquat site_xpos cvel xanchor xaxis subtree_com".split()
+        "qpos qvel ctrl mocap_pos mocap_quat xpos xquat site_xpos cvel xanchor xaxis subtree_com".split()
     )
 
     def __init__(self, batch: mujoco.batch.Batch, model: mujoco.MjModel) -> None:
@@ -60,7 +60,7 @@ class Frames(EnvRows):
     grasp_linvel: np.ndarray
     joint_pos: np.ndarray  # (n, J) active joints: IK chain then hand
     joint_vel: np.ndarray
-    joint_acc: np.ndarray
+    joint_acc: np.ndarray  # finite difference of joint_vel over the last physics substep (zero after a reset)
 
 
 def _gather(field: np.ndarray, ids: np.ndarray | None, cols: np.ndarray | int) -> np.ndarray:
@@ -88,8 +88,17 @@ class FrameReader:
         self.active_qpos = np.concatenate((index.ik_qpos, index.hand_qpos))
         self.active_dof = np.concatenate((index.ik_dof, index.hand_dof))
 
-    def read(self, ids: np.ndarray | None = None) -> Frames:
-        """Frames of the given envs, or of all envs when ids is None."""
+    def joint_vel(self) -> np.ndarray:
+        """A copy of every env's active-joint velocities (the finite difference's earlier sample)."""
+        return _gather(self.view.qvel, None, self.active_dof)
+
+    def read(
+        self, ids: np.ndarray | None = None, previous_vel: np.ndarray | None = None, dt: float = 1.0
+    ) -> Frames:
+        """Frames of the given envs, or of all envs when ids is None. The joint acceleration is the finite
+        difference (joint_vel - previous_vel) / dt, as Isaac Lab computes it every physics step (MuJoCo's
+        qacc is the acceleration before the last substep's constraint and implicit-damping updates, not the
+        velocity change); zero when previous_vel is None (a reset)."""
         view = self.view
         points = _gather(view.site_xpos, ids, self.sites)
         # cvel holds [angular; linear] velocity about the subtree centre of mass of each body's root.
@@ -98,6 +107,7 @@ class FrameReader:
         linvel = cvel[..., 3:] + cross(angvel, points - _gather(view.subtree_com, ids, self.site_roots))
         link_pos = _gather(view.xpos, ids, self.link_pos_bodies)
         link_quat = _gather(view.xquat, ids, self.link_quat_bodies)
+        joint_vel = _gather(view.qvel, ids, self.active_dof)
         return Frames(
             palm_pos=points[:, 0],
             palm_quat=link_quat[:, 0],
@@ -116,6 +126,6 @@ class FrameReader:
             grasp_quat=link_quat[:, 2],
             grasp_linvel=linvel[:, -1],
             joint_pos=_gather(view.qpos, ids, self.active_qpos),
-            joint_vel=_gather(view.qvel, ids, self.active_dof),
-            joint_acc=_gather(view.qacc, ids, self.active_dof),
+            joint_vel=joint_vel,
+            joint_acc=np.zeros_like(joint_vel) if previous_vel is None else (joint_vel - previous_vel) / dt,
         )

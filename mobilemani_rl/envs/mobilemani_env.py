@@ -132,7 +132,6 @@ class MobileManiEnv:
             v.mocap_pos[ids, self.room_mocap] = room + sample_room_offsets(self.rng, len(ids), jitter)
         self.batch.forward(ids, stage=mujoco.mjtStage.mjSTAGE_VEL)
         fresh = self.frame_reader.read(ids)
-        fresh.joint_acc[:] = 0.0
         self.goal_pos[ids] = start.goal_pos
         distances = TaskDistances.measure(fresh, start.goal_pos)
         if self.frames is None:
@@ -171,11 +170,15 @@ class MobileManiEnv:
 
     def step(self, actions: np.ndarray) -> StepResult:
         actions, nan_count = self.apply_action(actions)
-        self.batch.step(nstep=self.cfg.physics.substeps, stage=mujoco.mjtStage.mjSTAGE_VEL)
+        # The last substep runs on its own: the acceleration is the velocity change over it.
+        if self.cfg.physics.substeps > 1:
+            self.batch.step(nstep=self.cfg.physics.substeps - 1)
+        previous_vel = self.frame_reader.joint_vel()
+        self.batch.step(nstep=1, stage=mujoco.mjtStage.mjSTAGE_VEL)
         self.episode_length_buf += 1
         self.env_times += 1
         self.last_action = actions
-        frames = self.frames = self.frame_reader.read()
+        frames = self.frames = self.frame_reader.read(previous_vel=previous_vel, dt=self.cfg.physics.timestep)
         scfg = self.cfg.success
         dist = self.task_distances = TaskDistances.measure(frames, self.goal_pos)
         # Truncation reads the success counter before this step's success is added, as in the reference.

@@ -111,7 +111,7 @@ def _goal(
     else:  # push
         goal = grasp_start - CART_TRAVEL * TOWARD_ROBOT
     if obj.kind is ObjectKind.ARTICULATED:
-        scale = float(np.linalg.norm(kin.handle_opened - kin.handle_closed))
+        scale = kin.goal_distance
     else:
         scale = PICK_LIFT if skill == "pick" else CART_TRAVEL
     return goal, np.full(n, scale)

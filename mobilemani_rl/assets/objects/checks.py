@@ -81,11 +81,11 @@ def sweep(obj: ObjectModel, skill: str, steps: int = 30) -> SweepResult:
         qadr = model.joint(OBJECT_PREFIX + obj.joint).qposadr[0]
         moving = {b for b in range(model.nbody) if model.body_jntnum[b] > 0 or _has_moving_parent(model, b)}
         # One path from the initial value to the widest close start covers both skills' sweeps.
-        widest = max(kin.open_value, kin.close_start_range()[1])
+        widest = max(kin.goal_value, kin.close_start_range()[1])
         for q in np.linspace(kin.init_value, widest, steps):
             data.qpos[qadr] = q
             collisions += _penetrations(model, data, moving)
-        data.qpos[qadr] = kin.open_value if skill == "open" else kin.init_value
+        data.qpos[qadr] = kin.goal_value if skill == "open" else kin.init_value
         goal = kin.handle_opened if skill == "open" else kin.handle_closed
     else:
         root = model.body(OBJECT_PREFIX + ROOT_BODY).id

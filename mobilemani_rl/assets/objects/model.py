@@ -65,9 +65,11 @@ class ObjectKinematics:
     joint_range: tuple[float, float]
     joint_is_hinge: bool
     init_value: float  # joint value at the start of open tasks (lower + init_joint offset)
-    open_value: float  # joint value whose handle position is the open goal
+    open_value: float  # the reference's "opened" joint value: lower + 60° (capped) or 60 % of the range
+    goal_value: float  # joint value whose handle position is the open goal (see `from_model`)
     handle_closed: np.ndarray  # grasp point in the root frame with the joint at init_value
-    handle_opened: np.ndarray  # grasp point in the root frame with the joint at open_value
+    handle_opened: np.ndarray  # grasp point in the root frame with the joint at goal_value: the open goal
+    goal_distance: float  # D0, the reward's distance scale: |handle at open_value - handle at lower|
     bottom_z: float  # lowest point of the object's collision geometry, root frame, joint at init_value
     front_y: float  # most negative y of the object's collision geometry (its face toward the robot)
 
@@ -86,10 +88,19 @@ class ObjectKinematics:
             opened = (
                 min(lower + float(OPEN_ANGLE), upper) if is_hinge else lower + OPEN_RATIO * (upper - lower)
             )
+        # The reference stores the opened handle in the link's frame at the lower limit and places it with the
+        # link's pose at reset, which starts init - lower past the limit: the goal is the handle at
+        # opened + (init - lower), ~70° for the lids that start 10° open, not capped at the upper limit.
+        goal = opened + (init - lower)
+        distance = float(
+            np.linalg.norm(
+                _grasp_point(model, data, obj.joint, opened) - _grasp_point(model, data, obj.joint, lower)
+            )
+        )
+        opened_pos = _grasp_point(model, data, obj.joint, goal)
         closed_pos = _grasp_point(model, data, obj.joint, init)
-        low, front = _extent(model, data)
-        opened_pos = _grasp_point(model, data, obj.joint, opened)
-        return cls((lower, upper), is_hinge, init, opened, closed_pos, opened_pos, low, front)
+        low, front = _extent(model, data)  # with the joint at init_value
+        return cls((lower, upper), is_hinge, init, opened, goal, closed_pos, opened_pos, distance, low, front)
 
     def close_start_range(self) -> tuple[float, float]:
         """Joint values a close task starts between, as in the reference: 40–80° or 40–80 % open."""

@@ -31,7 +31,7 @@ def render_object(obj: ObjectModel, opened: bool, size: int = 320) -> np.ndarray
     data = mujoco.MjData(model)
     if obj.joint is not None:
         kin = obj.kinematics
-        data.qpos[model.joint("obj/" + obj.joint).qposadr[0]] = kin.open_value if opened else kin.init_value
+        data.qpos[model.joint("obj/" + obj.joint).qposadr[0]] = kin.goal_value if opened else kin.init_value
     mujoco.mj_forward(model, data)
     root = model.body("obj/" + ROOT_BODY).id
     geoms = [g for g in range(model.ngeom) if model.body_rootid[model.geom_bodyid[g]] == root]

@@ -15,6 +15,10 @@ HINGE, SLIDE = mujoco.mjtJoint.mjJNT_HINGE, mujoco.mjtJoint.mjJNT_SLIDE
 ROBOT_RGBA = (0.85, 0.85, 0.88, 1.0)
 DARK_RGBA = (0.2, 0.2, 0.22, 1.0)
 FINGER_SOLIMP = (0.99, 0.995, 0.001, 0.5, 2.0)
+# Sliding friction of the gripper pads and XHand phalanges. The reference's 1.0 (times the object's 1.0) would
+# be 1.0 here too (MuJoCo takes a pair's larger value), but MuJoCo's soft contacts let held objects slip: the
+# scripted G1 pick drops from 48/48 to 42/48 episodes (docs/results/reference_fidelity.md).
+PAD_FRICTION = (1.5, 0.01, 0.001)
 
 
 def add_geom(
@@ -27,17 +31,19 @@ def add_geom(
     fromto: Sequence[float] | None = None,
     rgba: Sequence[float] = ROBOT_RGBA,
     collide: bool = True,
+    contact: tuple[int, int] = ROBOT_CONTACT,
     mass: float | None = None,
     friction: Sequence[float] | None = None,
 ) -> mujoco.MjsGeom:
-    """Add a robot geom; collidable ones touch the world (objects, stage) but never the robot itself."""
+    """Add a robot geom; collidable ones touch the world (objects, stage) and, with HAND_CONTACT, each other
+    (mobilemani_rl.assets.collision)."""
     geom = body.add_geom(type=kind, size=list(size) + [0] * (3 - len(size)), rgba=list(rgba))
     if fromto is not None:
         geom.fromto = list(fromto)
     else:
         geom.pos = list(pos)
         geom.quat = list(quat)
-    geom.contype, geom.conaffinity = ROBOT_CONTACT if collide else (0, 0)
+    geom.contype, geom.conaffinity = contact if collide else (0, 0)
     if mass is not None:
         geom.mass = mass
     if friction is not None:

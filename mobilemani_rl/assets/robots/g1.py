@@ -16,6 +16,7 @@ from mobilemani_rl.assets.robots.builder import (
     BOX,
     CAPSULE,
     DARK_RGBA,
+    PAD_FRICTION,
     SLIDE,
     add_arm,
     add_camera,
@@ -48,7 +49,6 @@ def _build_gripper(spec: mujoco.MjSpec, wrist: mujoco.MjsBody) -> None:
     center = add_link(base, "gripper_r_center_link", (0, 0, GRIPPER_REACH))
     center.add_site(name="palm", size=[0.008, 0, 0], rgba=[1, 0, 0, 1], group=4)
     add_camera(base, "wrist_camera", pos=(0.0, -0.06, 0.02), forward=(0, 0, 1), up=(1, 0, 0))
-    pad_friction = (1.5, 0.01, 0.001)
     for side, name, joint in (
         (1, "gripper_r_outer_link5", GRIPPER_JOINT),
         (-1, "gripper_r_inner_link5", GRIPPER_MIMIC),
@@ -63,7 +63,7 @@ def _build_gripper(spec: mujoco.MjSpec, wrist: mujoco.MjsBody) -> None:
             pos=(side * 0.008, 0, GRIPPER_REACH - 0.02),
             rgba=DARK_RGBA,
             mass=0.05,
-            friction=pad_friction,
+            friction=PAD_FRICTION,
         )
         finger.add_site(name=f"{name}_tip", pos=[side * 0.008, 0, GRIPPER_REACH], size=[0.006, 0, 0], group=4)
         add_position_actuator(spec, joint, kp=200.0, kv=5.0, force=8.0, limits=(0.0, FINGER_TRAVEL))

@@ -16,11 +16,13 @@ import math
 
 import mujoco
 
+from mobilemani_rl.assets.collision import HAND_CONTACT
 from mobilemani_rl.assets.robots.builder import (
     BOX,
     CAPSULE,
     DARK_RGBA,
     HINGE,
+    PAD_FRICTION,
     add_arm,
     add_camera,
     add_geom,
@@ -50,6 +52,7 @@ UPPER_ARM, FOREARM = 0.30, 0.28
 DEFAULT_ARM = (0.853, 0.0, 0.0, 0.637, 0.0, -1.49, 0.0)
 
 P = "right_hand_"
+PALM_LINK = "xhand_right_base_link"
 HAND_LIMITS = {
     "index_bend": (-0.175, 0.175),
     "mid_joint1": (0.0, 1.92),
@@ -130,8 +133,9 @@ def _add_phalanx(parent: mujoco.MjsBody, link: str, joint: str, pos, length: flo
         (0.009,),
         fromto=(0, 0, 0, -length, 0, 0),
         rgba=DARK_RGBA,
+        contact=HAND_CONTACT,
         mass=0.02,
-        friction=(1.5, 0.01, 0.001),
+        friction=PAD_FRICTION,
     )
     return body
 
@@ -156,12 +160,13 @@ def _build_hand(wrist: mujoco.MjsBody) -> None:
         adapter, mujoco.mjtGeom.mjGEOM_CYLINDER, (0.035, 0.02), pos=(0, 0, 0.02), rgba=DARK_RGBA, mass=0.2
     )
     length, width, thickness = PALM
-    hand = add_link(adapter, "xhand_right_base_link", (-thickness / 2, 0, 0.04 + WRIST_X), HAND_QUAT)
+    hand = add_link(adapter, PALM_LINK, (-thickness / 2, 0, 0.04 + WRIST_X), HAND_QUAT)
     add_geom(
         hand,
         BOX,
         (length / 2, width / 2, thickness / 2),
         pos=(WRIST_X - length / 2, 0, thickness / 2),
+        contact=HAND_CONTACT,
         mass=0.3,
     )
     # Palm point: the reference offset (-0.04, 0, 0.06) in the hand frame, in front of the palm face.
@@ -219,6 +224,10 @@ def build_xhand_spec() -> mujoco.MjSpec:
     links = [f"Right_Arm_Link{i}" for i in range(1, 8)]
     wrist = add_arm(arm_base, links, ARM_JOINTS, ARM_LIMITS, (0, 0, 1), UPPER_ARM, FOREARM)
     _build_hand(wrist)
+    # The index and thumb root in the palm through their abduction links, so MuJoCo's parent-child filter
+    # misses the knuckle contact between their proximal phalanx and the palm (always touching: a knuckle).
+    for digit in ("index", "thumb"):
+        spec.add_exclude(bodyname1=PALM_LINK, bodyname2=f"{P}{digit}_rota_link1")
     for joint, limits in zip(ARM_JOINTS, ARM_LIMITS, strict=True):
         add_position_actuator(spec, joint, kp=600.0, kv=30.0, force=300.0, limits=limits)
     for joint in HAND_JOINTS:
