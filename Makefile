@@ -184,13 +184,15 @@ lerobot: setup
 # `make eval` for one).
 # Every stage resumes or skips finished work, so a rerun after an interruption continues.
 DEMO ?= runs/demo
+DEMO_PPO_ITERATIONS ?= 100
 DEMO_VLA_STEPS ?= 1200
 demo: setup
-	$(MAKE) rl ROBOT=g1 OBJECT=test/box SKILL=open ITERATIONS=300 RL_ARGS="run_dir=$(DEMO)/rl/g1/test/box/open"
+	$(MAKE) rl ROBOT=g1 OBJECT=test/box SKILL=open ITERATIONS=$(DEMO_PPO_ITERATIONS) RL_ARGS="run_dir=$(DEMO)/rl/g1/test/box/open"
 	$(MAKE) data ROBOT=g1 SUBSET=demo TEACHER=ppo DATA_ARGS="data_dir=$(DEMO)/data teacher.runs_dir=$(DEMO)/rl collect.action_noise=0.3 \
 		export.width=64 export.height=64 export.vcodec=h264 export.crf=20 export.modalities=[rgb,depth]"
 	$(MAKE) vla ROBOT=g1 VLA_ARGS="name=demo vla/model=cpu vla/train=cpu data.root=$(DEMO)/data/lerobot \
-		data.heldout_episodes=2 train.output_dir=$(DEMO)/vla train.steps=$(DEMO_VLA_STEPS) train.lr=1e-3 train.warmup_steps=50 \
+		data.heldout_episodes=2 diffusion.repeated_steps=2 train.output_dir=$(DEMO)/vla train.steps=$(DEMO_VLA_STEPS) \
+		train.lr=1e-3 train.warmup_steps=50 \
 		train.save_every=$(DEMO_VLA_STEPS) train.diagnose_every=$(DEMO_VLA_STEPS) train.logger=none"
 	$(MAKE) eval ROBOT=g1 POLICY=teacher PROTOCOL=demo NAME=teacher \
 		EVAL_ARGS="output_dir=$(DEMO)/eval policy.runs_dir=$(DEMO)/rl"

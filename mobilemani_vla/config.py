@@ -14,7 +14,7 @@ from mobilemani_rl.envs.config import RobotChoiceCfg
 from mobilemani_rl.registry import InputError, check_positive
 from mobilemani_rl.schema import register_schema, to_dataclass
 from mobilemani_vla.augment import AugmentCfg
-from mobilemani_vla.dit import DIT_PRESETS
+from mobilemani_vla.dit import DIT_PRESETS, GELU_APPROXIMATIONS
 
 DTYPES = ("float32", "bfloat16", "float16")
 ROBOT_ACTION_DIMS = {"g1": 7, "xhand": 18}  # 6 wrist deltas + 1 gripper / 12 hand joints
@@ -32,6 +32,7 @@ class VisionCfg:
     num_attention_heads: int = 2
     image_size: int = 32
     patch_size: int = 8
+    hidden_act: str = "gelu_pytorch_tanh"  # SigLIP's; "gelu" (exact) is ~2x faster on CPUs, free from scratch
 
 
 @dataclass
@@ -47,6 +48,7 @@ class TextCfg:
     head_dim: int = 32
     sliding_window: int = 4096
     query_pre_attn_scalar: int = 32
+    hidden_activation: str = "gelu_pytorch_tanh"  # Gemma-2's; "gelu" as above
 
 
 @dataclass
@@ -60,6 +62,7 @@ class ModelCfg:
     text: TextCfg = field(default_factory=TextCfg)
     attn_implementation: str | None = None  # transformers' choice when null (eager for Gemma-2)
     dit: str = "Ti"  # DiT size: CogACT's S, B or L, or Ti for CPU tests
+    dit_gelu: str = "tanh"  # the DiT MLP's GELU: CogACT's "tanh" approximation or "none" (exact, CPU-fast)
     # dtype the pretrained backbone's weights load in: bfloat16 halves a 3B model's weights, gradients and
     # AdamW state on GPUs; the action head stays float32 and gets the cognition feature cast to it.
     dtype: str = "float32"
@@ -161,6 +164,7 @@ class VLACfg:
         _choices("inputs.cameras", self.inputs.cameras, CAMERAS)
         _choices("inputs.states", self.inputs.states, STATES)
         _choices("model.dit", [self.model.dit], DIT_PRESETS)
+        _choices("model.dit_gelu", [self.model.dit_gelu], GELU_APPROXIMATIONS)
         _choices("model.dtype", [self.model.dtype], DTYPES)
         if not self.inputs.cameras:
             raise InputError(f"inputs.cameras must name at least one of {list(CAMERAS)}")

@@ -20,6 +20,7 @@ DIT_PRESETS: dict[str, tuple[int, int, int]] = {
     "B": (12, 768, 12),
     "L": (24, 1024, 16),
 }
+GELU_APPROXIMATIONS = ("tanh", "none")  # torch.nn.GELU's; CogACT's DiT uses tanh
 
 
 class TimestepEmbedder(nn.Module):
@@ -75,14 +76,14 @@ class Attention(nn.Module):
 class Block(nn.Module):
     """Pre-LN transformer block; LayerNorms carry no affine parameters, as in CogACT."""
 
-    def __init__(self, width: int, heads: int, mlp_ratio: float = 4.0) -> None:
+    def __init__(self, width: int, heads: int, gelu: str = "tanh", mlp_ratio: float = 4.0) -> None:
         super().__init__()
         hidden = int(width * mlp_ratio)
         self.norm1 = nn.LayerNorm(width, elementwise_affine=False, eps=1e-6)
         self.attn = Attention(width, heads)
         self.norm2 = nn.LayerNorm(width, elementwise_affine=False, eps=1e-6)
         self.mlp = nn.Sequential(
-            nn.Linear(width, hidden), nn.GELU(approximate="tanh"), nn.Linear(hidden, width)
+            nn.Linear(width, hidden), nn.GELU(approximate=gelu), nn.Linear(hidden, width)
         )
 
     def forward(self, x: torch.Tensor) -> torch.Tensor:
@@ -91,7 +92,9 @@ class Block(nn.Module):
 
 
 class DiT(nn.Module):
-    def __init__(self, size: str, action_dim: int, chunk: int, cond_dim: int, guidance: bool) -> None:
+    def __init__(
+        self, size: str, action_dim: int, chunk: int, cond_dim: int, guidance: bool, gelu: str = "tanh"
+    ) -> None:
         super().__init__()
         depth, width, heads = DIT_PRESETS[size]
         self.width = width
@@ -99,7 +102,7 @@ class DiT(nn.Module):
         self.t_embed = TimestepEmbedder(width)
         self.cond_embed = CognitionEmbedder(cond_dim, width, guidance)
         self.pos_embed = nn.Parameter(torch.randn(chunk + 1, width) * width**-0.5)
-        self.blocks = nn.ModuleList(Block(width, heads) for _ in range(depth))
+        self.blocks = nn.ModuleList(Block(width, heads, gelu) for _ in range(depth))
         self.final_norm = nn.LayerNorm(width, elementwise_affine=False, eps=1e-6)
         self.out = nn.Linear(width, action_dim)
         self._init_weights()

@@ -33,7 +33,12 @@ class MobileManiVLA(nn.Module):
         self.action_dim = cfg.action_dim
         self.backbone = backbone
         dit = DiT(
-            cfg.model.dit, cfg.action_dim, cfg.diffusion.chunk, backbone.width, cfg.diffusion.cfg_dropout > 0
+            cfg.model.dit,
+            cfg.action_dim,
+            cfg.diffusion.chunk,
+            backbone.width,
+            cfg.diffusion.cfg_dropout > 0,
+            cfg.model.dit_gelu,
         )
         state_dim = sum(STATE_DIMS[s] for s in cfg.inputs.states)
         self.state_encoder = StateEncoder(state_dim, dit.width) if state_dim else None

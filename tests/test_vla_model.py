@@ -147,3 +147,15 @@ def test_backbone_and_tokenizer_load_from_a_local_pretrained_directory(tmp_path)
         build_model(
             compose_vla_cfg([f"model.pretrained_path={tmp_path / 'missing'}"]), build_word_tokenizer()
         )
+
+
+def test_cpu_model_uses_exact_gelus_and_other_sizes_keep_the_tanh_approximation():
+    cpu = compose_vla_cfg(["vla/model=cpu"]).model
+    config = paligemma_config(cpu)
+    assert config.vision_config.hidden_act == "gelu" and config.text_config.hidden_activation == "gelu"
+    dit = DiT(cpu.dit, action_dim=7, chunk=16, cond_dim=128, guidance=True, gelu=cpu.dit_gelu)
+    assert {m.approximate for m in dit.modules() if isinstance(m, torch.nn.GELU)} == {"none"}
+    tiny = paligemma_config(ModelCfg())
+    assert tiny.vision_config.hidden_act == "gelu_pytorch_tanh" and ModelCfg().dit_gelu == "tanh"
+    with pytest.raises(ValueError, match="model.dit_gelu"):
+        compose_vla_cfg(["model.dit_gelu=erf"])
