@@ -1,10 +1,13 @@
 """Dataset statistics like the paper's table: episodes,
-frames and mean episode length per skill, category, split.
+frames and mean episode length per skill, category, split; and how rough the teacher's actions are.
 
     python -m mobilemani_data.stats robot=g1
 
-Reads the exported dataset's episode metadata; prints a Markdown table and JSON (also written to
-`meta/mobilemani_stats.json`).
+Reads the exported dataset's episode metadata and actions; prints a Markdown table and JSON (also written to
+`meta/mobilemani_stats.json`). The action roughness, mean |a[t+1] - a[t]| per action dimension within
+episodes, tells how much frame-to-frame jitter a policy trained on the data has to imitate: in DART
+collections of g1 opening test/box the scripted teacher's actions move by ~0.02 per frame, those of a PPO
+teacher refined for 100 iterations by ~0.15.
 """
 
 from __future__ import annotations
@@ -14,6 +17,8 @@ from collections import defaultdict
 from pathlib import Path
 
 import hydra
+import numpy as np
+from lerobot.datasets.lerobot_dataset import LeRobotDataset
 from omegaconf import DictConfig
 
 from mobilemani_data import schema
@@ -51,6 +56,18 @@ def dataset_stats(episodes: list[dict]) -> dict:
     return table
 
 
+def action_roughness(actions: np.ndarray, episode_index: np.ndarray) -> list[float]:
+    """Mean |a[t+1] - a[t]| per action dimension over consecutive frames of the same episode."""
+    same_episode = episode_index[1:] == episode_index[:-1]
+    steps = np.abs(np.diff(actions, axis=0))[same_episode]
+    return [round(float(v), 4) for v in steps.mean(axis=0)]
+
+
+def dataset_action_roughness(root: Path, repo_id: str) -> list[float]:
+    table = LeRobotDataset(repo_id, root=root).hf_dataset.with_format("numpy")[:]
+    return action_roughness(np.asarray(table[schema.ACTION]), np.asarray(table["episode_index"]))
+
+
 def markdown(table: dict) -> str:
     lines = [
         "| group | value | episodes | frames | mean length (frames) | mean length (s) |",
@@ -63,14 +80,19 @@ def markdown(table: dict) -> str:
                 f"{row['mean_seconds']} |"
             )
     lines.append(f"\n{table['objects']} objects, {table['scenes']} scenes, {table['tasks']} instructions")
+    if "action_roughness" in table:
+        values = " ".join(f"{v:.3f}" for v in table["action_roughness"])
+        lines.append(f"action roughness (mean |a[t+1] - a[t]| per dimension): {values}")
     return "\n".join(lines)
 
 
 @hydra.main(config_path="../conf", config_name="data", version_base="1.3")
 @entry_point
 def main(cfg: DictConfig) -> None:
-    root = Path(to_dataclass(with_env_task(cfg), DataCfg).check_counts().dataset_dir)
+    data_cfg = to_dataclass(with_env_task(cfg), DataCfg).check_counts()
+    root = Path(data_cfg.dataset_dir)
     table = dataset_stats(read_episodes(root))
+    table["action_roughness"] = dataset_action_roughness(root, data_cfg.export.repo_id)
     (root / STATS_FILE).write_text(json.dumps(table, indent=2))
     print(json.dumps(table, indent=2))
     print(markdown(table))

@@ -14,7 +14,7 @@ from mobilemani_data.export import export
 from mobilemani_data.metadata import read_episodes
 from mobilemani_data.replay import Replayer
 from mobilemani_data.shards import read_shard, shard_paths
-from mobilemani_data.stats import dataset_stats, markdown
+from mobilemani_data.stats import action_roughness, dataset_stats, markdown
 from mobilemani_data.validate import validate
 from mobilemani_rl.base_frame import action_to_base
 
@@ -90,6 +90,13 @@ def test_stats_report_mean_episode_length(tiny):
     assert set(table["skill"]) == {"open", "close", "pull", "push"}
     assert set(table["category"]) == {"dishwasher", "cart"}
     print(markdown(table))
+
+
+def test_action_roughness_counts_steps_within_episodes_only():
+    actions = np.array([[0.0, 0.0], [1.0, 0.0], [1.0, 2.0], [5.0, 5.0], [5.0, 5.0]])
+    episode_index = np.array([0, 0, 0, 1, 1])
+    # steps (1, 0), (0, 2) in episode 0 and (0, 0) in episode 1; the jump between episodes is not one
+    assert action_roughness(actions, episode_index) == [round(1 / 3, 4), round(2 / 3, 4)]
 
 
 def test_export_writes_only_the_chosen_streams_and_stock_policies_see_the_right_features(tiny, tmp_path):
