@@ -175,13 +175,14 @@ lerobot: setup
 	$(MAKE) eval ROBOT=$(ROBOT) POLICY=lerobot NAME=lerobot_$(LEROBOT_POLICY) \
 		CHECKPOINT=$(LEROBOT_LAST)/pretrained_model
 
-# The whole chain at small scale (24 minutes on the faster of our 2-core machines, 35 on the slower one, where PyTorch
-# runs at half the speed: docs/results/demo/short_schedules.md): a PPO teacher for g1 opening test/box, 48 episodes from
-# it in eight train rooms (executed with action noise, DART; 64 px, H.264), the CPU recipe's VLA (vla/model=cpu
-# vla/train=cpu, DEMO_VLA_STEPS steps at learning rate 1e-3: 50% vs 40% at the recipe's 3e-4 in the same rooms,
-# docs/results/demo/lr_1e-3.md), closed-loop evaluation of both over 20 episodes in the four unseen test rooms,
-# tables and a report (no rollout video: it doubles the evaluation on 2 cores; add EVAL_ARGS video_episodes=1 to
-# `make eval` for one).
+# The whole chain at small scale (12 minutes as committed on the faster of our 2-core machines,
+# docs/results/demo/reference_goal.md; 35 on the slower one, where PyTorch runs at half the speed, with 300 PPO
+# iterations and 4 repeated diffusion steps: docs/results/demo/short_schedules.md): a PPO teacher for g1 opening
+# test/box, 48 episodes from it in eight train rooms (executed with action noise, DART; 64 px, H.264), the CPU
+# recipe's VLA (vla/model=cpu vla/train=cpu, DEMO_VLA_STEPS steps at learning rate 1e-3: 50% vs 40% at the recipe's
+# 3e-4 in the same rooms, docs/results/demo/lr_1e-3.md), closed-loop evaluation of both over 20 episodes in the
+# four unseen test rooms, tables and a report (no rollout video: it doubles the evaluation on 2 cores; add
+# EVAL_ARGS video_episodes=1 to `make eval` for one).
 # Every stage resumes or skips finished work, so a rerun after an interruption continues.
 DEMO ?= runs/demo
 DEMO_PPO_ITERATIONS ?= 100

@@ -1,0 +1,72 @@
+"""Where a closed-loop evaluation's episodes stop: rerun chosen rooms of a finished evaluation with the same
+seeds and print, per episode, success, the closest the grasp point came to its goal and the closest palm
+approach.
+
+    python -m scripts.vla_failure_distances runs/recipe/eval/g1/vla_open/config.json tabletop/17 tabletop/19
+
+A goal distance equal to the task's start distance means the object never moved (e.g. a lid never lifted).
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+from pathlib import Path
+
+import numpy as np
+from omegaconf import OmegaConf
+
+from mobilemani_rl.envs.config import TaskCfg
+from mobilemani_rl.envs.mobilemani_env import MobileManiEnv, StepResult
+from mobilemani_rl.schema import to_dataclass
+from mobilemani_rl.tasks import Combination, recording_env_cfg, select_combinations
+from mobilemani_vla.eval_config import DEFAULT_IMAGE_SIZE, EvalCfg
+from mobilemani_vla.evaluate import batch_seed
+from mobilemani_vla.harness import run_batch
+from mobilemani_vla.policies.base import EvalPolicy
+from mobilemani_vla.policies.factory import build_policy
+
+
+def closest_in_first_batch(cfg: EvalCfg, policy: EvalPolicy, combo: Combination) -> dict:
+    """The combination's first evaluation batch as the evaluation ran it, with each episode's closest
+    distances."""
+    seed = batch_seed(combo, cfg.seed, 0)
+    task = TaskCfg(combo.robot, combo.object_id, combo.skill, combo.scene)
+    env = MobileManiEnv(recording_env_cfg(cfg.env, task, cfg.batch_size, seed))
+    goal = np.full(env.num_envs, np.inf)
+    hand = np.full(env.num_envs, np.inf)
+    live = np.ones(env.num_envs, dtype=bool)
+
+    def track(result: StepResult) -> None:
+        # A finished env has been reset already: only envs still in their first episode count.
+        reached = env.task_distances
+        goal[live] = np.minimum(goal[live], reached.goal[live])
+        hand[live] = np.minimum(hand[live], reached.hand[live])
+        live[result.done_ids] = False
+
+    image_size = tuple(cfg.image_size or policy.image_size or DEFAULT_IMAGE_SIZE)
+    stats = run_batch(
+        env, policy, seed, combo.instruction, cfg.ensemble, image_size, cfg.action_convention, track
+    )
+    return {
+        "combination": combo.name,
+        "success": stats.success.astype(int).tolist(),
+        "closest_goal_cm": np.round(goal * 100, 1).tolist(),
+        "closest_palm_cm": np.round(hand * 100, 1).tolist(),
+    }
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("config", type=Path, help="config.json of a finished evaluation run")
+    parser.add_argument("scenes", nargs="+", help="scene ids to rerun, e.g. tabletop/17")
+    args = parser.parse_args()
+    cfg = to_dataclass(OmegaConf.create(json.loads(args.config.read_text())["eval"]), EvalCfg)
+    policy = build_policy(cfg.policy)
+    for combo in select_combinations(cfg.robot, cfg.subset):
+        if combo.scene in args.scenes:
+            print(json.dumps(closest_in_first_batch(cfg, policy, combo)), flush=True)
+
+
+if __name__ == "__main__":
+    main()
