@@ -47,6 +47,7 @@ EPISODE_METADATA = ("robot", "object_id", "category", "skill", "scene", "split",
 # the raw shard it came from; written by mobilemani_data.export next to LeRobot's own metadata.
 EPISODES_FILE = "meta/mobilemani_episodes.jsonl"
 EXPORT_REPORT_FILE = "meta/mobilemani_export.json"  # image size, codec, action convention, skipped shards
+STATS_FILE = "meta/mobilemani_stats.json"  # mobilemani_data.stats' report, rewritten by every `make data`
 
 
 def image_key(camera: str, modality: str) -> str:

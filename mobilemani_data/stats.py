@@ -29,7 +29,6 @@ from mobilemani_rl.envs.config import with_env_task
 from mobilemani_rl.schema import to_dataclass
 
 GROUPS = ("skill", "category", "split")
-STATS_FILE = "meta/mobilemani_stats.json"
 
 
 def _row(lengths: list[int]) -> dict:
@@ -93,7 +92,7 @@ def main(cfg: DictConfig) -> None:
     root = Path(data_cfg.dataset_dir)
     table = dataset_stats(read_episodes(root))
     table["action_roughness"] = dataset_action_roughness(root, data_cfg.export.repo_id)
-    (root / STATS_FILE).write_text(json.dumps(table, indent=2))
+    (root / schema.STATS_FILE).write_text(json.dumps(table, indent=2))
     print(json.dumps(table, indent=2))
     print(markdown(table))
 

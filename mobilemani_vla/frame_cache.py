@@ -21,6 +21,7 @@ from lerobot.datasets.dataset_metadata import LeRobotDatasetMetadata
 from lerobot.datasets.video_utils import decode_video_frames
 from tqdm import tqdm
 
+from mobilemani_data import schema
 from mobilemani_vla.processor import camera_key, resize_images
 
 CACHE_DIR = "vla_cache"
@@ -30,11 +31,12 @@ TOLERANCE_S = 1e-4  # LeRobotDataset's default timestamp tolerance
 
 
 def dataset_fingerprint(root: Path) -> str:
-    """A digest of every file of the dataset (path, size, modification time);
-    the cache itself is outside it."""
+    """A digest of every file of the dataset (path, size, modification time); the cache itself is outside it,
+    and so is the statistics report, which `make data` rewrites on every run without changing a frame."""
     digest = hashlib.sha256()
+    skipped = root / schema.STATS_FILE
     for sub in ("meta", "data", "videos"):
-        for path in sorted(p for p in (root / sub).rglob("*") if p.is_file()):
+        for path in sorted(p for p in (root / sub).rglob("*") if p.is_file() and p != skipped):
             stat = path.stat()
             digest.update(f"{path.relative_to(root)}:{stat.st_size}:{stat.st_mtime_ns}\n".encode())
     return digest.hexdigest()

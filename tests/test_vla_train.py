@@ -212,6 +212,9 @@ def test_frame_cache_is_built_once_reused_and_rebuilt_when_the_dataset_changes(t
             assert torch.equal(data.train[i]["action"], decoded.train[i]["action"])
     open_data(cfg, 32, progress=False)
     assert cache.stat().st_mtime_ns == built  # reused
+    (root / schema.STATS_FILE).write_text("{}")  # a rerun's statistics report changes no frame
+    open_data(cfg, 32, progress=False)
+    assert cache.stat().st_mtime_ns == built
     info = root / "meta" / "info.json"
     info.write_text(info.read_text())  # any change to the dataset's files invalidates the cache
     open_data(cfg, 32, progress=False)
