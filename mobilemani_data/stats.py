@@ -63,7 +63,8 @@ def action_roughness(actions: np.ndarray, episode_index: np.ndarray) -> list[flo
 
 
 def dataset_action_roughness(root: Path, repo_id: str) -> list[float]:
-    table = LeRobotDataset(repo_id, root=root).hf_dataset.with_format("numpy")[:]
+    columns = [schema.ACTION, "episode_index"]
+    table = LeRobotDataset(repo_id, root=root).hf_dataset.select_columns(columns).with_format("numpy")[:]
     return action_roughness(np.asarray(table[schema.ACTION]), np.asarray(table["episode_index"]))
 
 

@@ -19,6 +19,7 @@ from __future__ import annotations
 import json
 import time
 import zlib
+from collections.abc import Callable
 from pathlib import Path
 
 import hydra
@@ -27,10 +28,11 @@ from omegaconf import DictConfig, OmegaConf
 from mobilemani_rl.assets.robots import get_robot
 from mobilemani_rl.cli import entry_point
 from mobilemani_rl.envs.config import TaskCfg, with_env_task
-from mobilemani_rl.envs.mobilemani_env import MobileManiEnv
+from mobilemani_rl.envs.mobilemani_env import MobileManiEnv, StepResult
 from mobilemani_rl.io import write_json_atomic
 from mobilemani_rl.progress import Progress
 from mobilemani_rl.registry import ConfigMismatchError, InputError
+from mobilemani_rl.rollout import EpisodeStats
 from mobilemani_rl.schema import changed_values, to_dataclass
 from mobilemani_rl.tasks import Combination, recording_env_cfg, select_combinations
 from mobilemani_rl.video import HeadCameraRecorder
@@ -49,23 +51,37 @@ def run_dir(cfg: EvalCfg) -> Path:
     return Path(cfg.output_dir) / cfg.robot / cfg.name
 
 
+def block_env(cfg: EvalCfg, combo: Combination, block: int) -> tuple[MobileManiEnv, int]:
+    """The env batch of one evaluation block and the seed the harness resets it with."""
+    seed = batch_seed(combo, cfg.seed, block)
+    task = TaskCfg(combo.robot, combo.object_id, combo.skill, combo.scene)
+    return MobileManiEnv(recording_env_cfg(cfg.env, task, cfg.batch_size, seed)), seed
+
+
+def run_block(
+    cfg: EvalCfg,
+    policy: EvalPolicy,
+    combo: Combination,
+    env: MobileManiEnv,
+    seed: int,
+    on_step: Callable[[StepResult], None] | None = None,
+) -> EpisodeStats:
+    """One block's episodes under `policy`, at the image size the policy was trained with."""
+    image_size = tuple(cfg.image_size or policy.image_size or DEFAULT_IMAGE_SIZE)
+    return run_batch(
+        env, policy, seed, combo.instruction, cfg.ensemble, image_size, cfg.action_convention, on_step
+    )
+
+
 def evaluate_block(cfg: EvalCfg, policy: EvalPolicy, combo: Combination, block: int) -> list[dict]:
     size = cfg.batch_size
-    seed = batch_seed(combo, cfg.seed, block)
-    env = MobileManiEnv(
-        recording_env_cfg(
-            cfg.env, TaskCfg(combo.robot, combo.object_id, combo.skill, combo.scene), size, seed
-        )
-    )
+    env, seed = block_env(cfg, combo, block)
     recorder = (
         HeadCameraRecorder(env, cfg.video_episodes - block * size)
         if cfg.video_episodes > block * size
         else None
     )
-    image_size = tuple(cfg.image_size or policy.image_size or DEFAULT_IMAGE_SIZE)
-    stats = run_batch(
-        env, policy, seed, combo.instruction, cfg.ensemble, image_size, cfg.action_convention, recorder
-    )
+    stats = run_block(cfg, policy, combo, env, seed, recorder)
     if recorder is not None:
         recorder.write(
             run_dir(cfg) / "videos" / cfg.split_name / combo.name.replace("/", "_") / f"block_{block}"

@@ -3,7 +3,7 @@
 Decoding four video streams costs ~20 ms per randomly accessed sample; the cache decodes every episode once,
 sequentially, resizes the frames to the model's input size and keeps them as one uint8 array
 `<dataset>/vla_cache/<cameras>_<size>px/images.npy` of shape (frames, cameras, 3, size, size), read through a
-memory map. A manifest records a fingerprint of the dataset's files (paths, sizes, modification times); a
+memory map. A manifest records a fingerprint of the files the frames come from (videos, episode metadata); a
 cache whose fingerprint no longer matches is rebuilt. The cache is built under a temporary name and renamed
 when complete, so an interrupted build is never used.
 """
@@ -21,22 +21,23 @@ from lerobot.datasets.dataset_metadata import LeRobotDatasetMetadata
 from lerobot.datasets.video_utils import decode_video_frames
 from tqdm import tqdm
 
-from mobilemani_data import schema
 from mobilemani_vla.processor import camera_key, resize_images
 
 CACHE_DIR = "vla_cache"
 MANIFEST = "manifest.json"
 IMAGES = "images.npy"
 TOLERANCE_S = 1e-4  # LeRobotDataset's default timestamp tolerance
+FRAME_SOURCES = ("meta/info.json", "meta/episodes", "videos")  # what the cached frames are decoded from
 
 
 def dataset_fingerprint(root: Path) -> str:
-    """A digest of every file of the dataset (path, size, modification time); the cache itself is outside it,
-    and so is the statistics report, which `make data` rewrites on every run without changing a frame."""
+    """A digest of the files the cached frames come from (path, size, modification time): the videos and the
+    metadata that places each episode in them. Reports written beside them (statistics, which `make data`
+    rewrites on every run) change no frame."""
     digest = hashlib.sha256()
-    skipped = root / schema.STATS_FILE
-    for sub in ("meta", "data", "videos"):
-        for path in sorted(p for p in (root / sub).rglob("*") if p.is_file() and p != skipped):
+    for source in FRAME_SOURCES:
+        top = root / source
+        for path in sorted([top] if top.is_file() else (p for p in top.rglob("*") if p.is_file())):
             stat = path.stat()
             digest.update(f"{path.relative_to(root)}:{stat.st_size}:{stat.st_mtime_ns}\n".encode())
     return digest.hexdigest()

@@ -16,13 +16,11 @@ from pathlib import Path
 import numpy as np
 from omegaconf import OmegaConf
 
-from mobilemani_rl.envs.config import TaskCfg
-from mobilemani_rl.envs.mobilemani_env import MobileManiEnv, StepResult
+from mobilemani_rl.envs.mobilemani_env import StepResult
 from mobilemani_rl.schema import to_dataclass
-from mobilemani_rl.tasks import Combination, recording_env_cfg, select_combinations
-from mobilemani_vla.eval_config import DEFAULT_IMAGE_SIZE, EvalCfg
-from mobilemani_vla.evaluate import batch_seed
-from mobilemani_vla.harness import run_batch
+from mobilemani_rl.tasks import Combination, select_combinations
+from mobilemani_vla.eval_config import EvalCfg
+from mobilemani_vla.evaluate import block_env, run_block
 from mobilemani_vla.policies.base import EvalPolicy
 from mobilemani_vla.policies.factory import build_policy
 
@@ -30,9 +28,7 @@ from mobilemani_vla.policies.factory import build_policy
 def closest_in_first_batch(cfg: EvalCfg, policy: EvalPolicy, combo: Combination) -> dict:
     """The combination's first evaluation batch as the evaluation ran it, with each episode's closest
     distances."""
-    seed = batch_seed(combo, cfg.seed, 0)
-    task = TaskCfg(combo.robot, combo.object_id, combo.skill, combo.scene)
-    env = MobileManiEnv(recording_env_cfg(cfg.env, task, cfg.batch_size, seed))
+    env, seed = block_env(cfg, combo, 0)
     goal = np.full(env.num_envs, np.inf)
     hand = np.full(env.num_envs, np.inf)
     live = np.ones(env.num_envs, dtype=bool)
@@ -44,10 +40,7 @@ def closest_in_first_batch(cfg: EvalCfg, policy: EvalPolicy, combo: Combination)
         hand[live] = np.minimum(hand[live], reached.hand[live])
         live[result.done_ids] = False
 
-    image_size = tuple(cfg.image_size or policy.image_size or DEFAULT_IMAGE_SIZE)
-    stats = run_batch(
-        env, policy, seed, combo.instruction, cfg.ensemble, image_size, cfg.action_convention, track
-    )
+    stats = run_block(cfg, policy, combo, env, seed, track)
     return {
         "combination": combo.name,
         "success": stats.success.astype(int).tolist(),
