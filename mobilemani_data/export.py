@@ -15,11 +15,13 @@ import json
 import shutil
 import sys
 import time
+import zlib
 from dataclasses import dataclass, field
 from pathlib import Path
 
 import av
 import hydra
+import numpy as np
 from lerobot.configs.video import RGBEncoderConfig
 from lerobot.datasets.lerobot_dataset import LeRobotDataset
 from omegaconf import DictConfig
@@ -35,6 +37,7 @@ from mobilemani_rl.cli import entry_point
 from mobilemani_rl.envs.config import with_env_task
 from mobilemani_rl.registry import InputError, MissingFileError, OutputExistsError
 from mobilemani_rl.render import CameraRenderCfg, CameraRenderer
+from mobilemani_rl.render.appearance import RoomRepainter
 from mobilemani_rl.schema import to_dataclass
 
 PARTIAL = ".partial"
@@ -52,8 +55,8 @@ class ExportReport:
 
 
 def check_streams(cfg: ExportCfg) -> None:
-    """export.cameras / export.modalities: non-empty, known, no repeats; export.vcodec: an encoder
-    (checked before anything is written)."""
+    """export.cameras / export.modalities: non-empty, known, no repeats; export.room_repaint in [0, 1];
+    export.vcodec: an encoder (checked before anything is written)."""
     for key, values, valid in (
         ("export.cameras", cfg.cameras, schema.CAMERAS),
         ("export.modalities", cfg.modalities, schema.MODALITIES),
@@ -62,6 +65,8 @@ def check_streams(cfg: ExportCfg) -> None:
             raise InputError(
                 f"invalid {key} {list(values)}: name one or more of {list(valid)}, without repeats"
             )
+    if not 0.0 <= cfg.room_repaint <= 1.0:
+        raise InputError(f"export.room_repaint={cfg.room_repaint} must lie in [0, 1] (0: rooms as built)")
     try:
         av.Codec(cfg.vcodec, "w")
     except av.codec.codec.UnknownCodecError as err:  # only PyAV knows this ffmpeg's encoders
@@ -119,9 +124,13 @@ def add_shard(
             segmentation="seg" in cfg.modalities,
         ),
     )
+    repainter = RoomRepainter(replayer.model) if cfg.room_repaint > 0 else None
     lines = []
     try:
         for k, episode in enumerate(shard.episodes):
+            if repainter is not None:  # seeded by shard and episode: a rerun renders the same images
+                seed = zlib.crc32(f"{shard.path.relative_to(raw_dir)}/{k}".encode())
+                repainter.repaint(np.random.default_rng(seed), cfg.room_repaint)
             vectors = episode_vectors(episode, len(robot.hand_joints), cfg.action_convention)
             for i, state in enumerate(episode.arrays["state"][FIRST_FRAME:]):
                 start = time.perf_counter()
@@ -157,7 +166,17 @@ def export_source(cfg: ExportCfg, raw_dir: Path, paths: list[Path]) -> dict:
     """What a dataset is exported from: the settings that shape its files, every shard's size and mtime."""
     settings = {
         k: getattr(cfg, k)
-        for k in ("repo_id", "width", "height", "vcodec", "crf", "gop", "preset", "action_convention")
+        for k in (
+            "repo_id",
+            "width",
+            "height",
+            "vcodec",
+            "crf",
+            "gop",
+            "preset",
+            "action_convention",
+            "room_repaint",
+        )
     }
     shards = {str(p.relative_to(raw_dir)): [(st := p.stat()).st_size, st.st_mtime_ns] for p in paths}
     return {**settings, "cameras": list(cfg.cameras), "modalities": list(cfg.modalities), "shards": shards}
@@ -222,6 +241,7 @@ def export(cfg: DataCfg) -> ExportReport:
                 "cameras": list(cfg.export.cameras),
                 "modalities": list(cfg.export.modalities),
                 "action_convention": cfg.export.action_convention,
+                "room_repaint": cfg.export.room_repaint,
                 "source": source,
             },
             indent=2,

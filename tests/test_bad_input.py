@@ -164,6 +164,8 @@ def test_an_unknown_video_encoder_is_refused_by_its_key():
     with pytest.raises(ValueError, match="export.vcodec='foo' is no video encoder"):
         check_streams(ExportCfg(vcodec="foo"))
     check_streams(ExportCfg(vcodec="h264"))
+    with pytest.raises(ValueError, match=r"export.room_repaint=1.5 must lie in \[0, 1\]"):
+        check_streams(ExportCfg(vcodec="h264", room_repaint=1.5))
 
 
 def test_vla_training_counts_and_logger_name_their_keys():

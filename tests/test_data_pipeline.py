@@ -101,7 +101,8 @@ def test_action_roughness_counts_steps_within_episodes_only():
 
 def test_export_writes_only_the_chosen_streams_and_stock_policies_see_the_right_features(tiny, tmp_path):
     """export.cameras / export.modalities pick what a stock LeRobot policy trains on; LeRobot then types
-    exactly `action` as the output and `observation.state` plus the chosen images as inputs."""
+    exactly `action` as the output and `observation.state` plus the chosen images as inputs.
+    export.room_repaint repaints the room: the same states render with other colours, the same depth."""
     from dataclasses import replace
 
     from lerobot.configs.types import FeatureType
@@ -110,15 +111,20 @@ def test_export_writes_only_the_chosen_streams_and_stock_policies_see_the_right_
     cfg = replace(
         tiny,
         dataset_dir=str(tmp_path / "lerobot"),
-        export=replace(tiny.export, cameras=["wrist"], modalities=["rgb", "depth"]),
+        export=replace(tiny.export, cameras=["head"], modalities=["rgb", "depth"], room_repaint=0.6),
     )
     export(cfg)
     assert validate(cfg) == []
     ds = LeRobotDataset(cfg.export.repo_id, root=cfg.dataset_dir, video_backend="pyav")
-    assert ds.meta.video_keys == [schema.image_key("wrist", "rgb"), schema.image_key("wrist", "depth")]
+    rgb, depth = schema.image_key("head", "rgb"), schema.image_key("head", "depth")
+    assert ds.meta.video_keys == [rgb, depth]
     policy = dataset_to_policy_features(ds.meta.features)
     assert [k for k, f in policy.items() if f.type is FeatureType.ACTION] == [schema.ACTION]
     assert [k for k, f in policy.items() if f.type is FeatureType.STATE] == [schema.STATE]
     assert policy[schema.STATE].shape == (schema.state_dim(1),)
+    built = LeRobotDataset(tiny.export.repo_id, root=tiny.dataset_dir, video_backend="pyav")
+    repainted_rgb = np.mean([(ds[i][rgb] - built[i][rgb]).abs().mean().item() for i in (0, 100)])
+    assert repainted_rgb > 0.02  # images in [0, 1]: the room's colours changed
+    assert max((ds[i][depth] - built[i][depth]).abs().mean().item() for i in (0, 100)) < 0.01
     with pytest.raises(ValueError, match=r"export.modalities \['rgb', 'ir'\].*'seg'"):
         export(replace(cfg, export=replace(cfg.export, modalities=["rgb", "ir"])))

@@ -13,7 +13,7 @@ OBJECT_ROOT = OBJECT_PREFIX + ROOT_BODY
 ROBOT_ROOT = "Root"  # the robot's mocap root
 
 
-def _subtree(model: mujoco.MjModel, root: int) -> np.ndarray:
+def subtree(model: mujoco.MjModel, root: int) -> np.ndarray:
     """Boolean mask over bodies: inside the subtree rooted at `root` (parents precede children)."""
     inside = np.zeros(model.nbody, dtype=bool)
     inside[root] = True
@@ -32,7 +32,7 @@ def geom_labels(
     for name, label in ((robot_root, LABEL_ROBOT), (object_root, LABEL_OBJECT)):
         body = mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_BODY, name)
         if body >= 0:
-            body_label[_subtree(model, body)] = label
+            body_label[subtree(model, body)] = label
     return body_label[model.geom_bodyid]
 
 
