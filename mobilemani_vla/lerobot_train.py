@@ -1,20 +1,41 @@
-"""`lerobot-train` with the project's quiet video libraries: one line saying PyAV decodes instead of lerobot's
-~60-line torchcodec traceback on every dataset open (mobilemani_data.video). Same arguments:
+"""`lerobot-train` on a MobileManiDataset, with the project's quiet video libraries (one line saying PyAV
+decodes instead of lerobot's ~60-line torchcodec traceback on every dataset open, mobilemani_data.video) and
+the camera frames read from the frame cache instead of decoded per sample (mobilemani_vla.lerobot_frames).
+LeRobot's arguments, plus `--frame_cache=false` to decode as stock LeRobot does:
 
-    python -m mobilemani_vla.lerobot_train --policy.type=act --dataset.root=<dataset> ...
+    python -m mobilemani_vla.lerobot_train --policy.type=act --dataset.root=<dataset> ... \\
+        [--frame_cache=false]
 """
 
 from __future__ import annotations
 
+import sys
+from contextlib import nullcontext
+
 from mobilemani_data.video import quiet_video_libraries
+from mobilemani_rl.registry import InputError
+
+FLAG = "--frame_cache="
+
+
+def frame_cache_flag(argv: list[str]) -> tuple[bool, list[str]]:
+    """(whether to read frames from the cache, the arguments left for lerobot-train)."""
+    values = [arg.removeprefix(FLAG) for arg in argv if arg.startswith(FLAG)]
+    if any(v not in ("true", "false") for v in values):
+        raise InputError(f"{FLAG}{values[-1]}: give {FLAG}true (the default) or {FLAG}false")
+    return (values[-1] if values else "true") == "true", [arg for arg in argv if not arg.startswith(FLAG)]
 
 
 def main() -> None:
+    use_cache, sys.argv[1:] = frame_cache_flag(sys.argv[1:])
     quiet_video_libraries()
     # Imported after the log filter is in place: lerobot warns about torchcodec while importing.
     from lerobot.scripts.lerobot_train import main as lerobot_train
 
-    lerobot_train()
+    from mobilemani_vla.lerobot_frames import served_from_frame_cache
+
+    with served_from_frame_cache() if use_cache else nullcontext():
+        lerobot_train()
 
 
 if __name__ == "__main__":
