@@ -115,8 +115,8 @@ bench-data: setup
 	$(PY) -m mobilemani_data.bench robot=$(ROBOT)
 
 # The CPU VLA recipe (docs/results/vla_cpu_recipe.md): 160 scripted-teacher episodes of g1 on test/box in the 16
-# train rooms (executed with action noise, DART) rendered at the model's 64 px, the cpu model trained ~63 min on
-# 2 cores, then 40 closed-loop episodes in the 4 unseen test rooms.
+# train rooms (executed with action noise, DART), each episode's room repainted, rendered at the model's 64 px, the
+# cpu model trained 38-63 min on 2 cores, then 40 closed-loop episodes in the 4 unseen test rooms.
 #   make recipe [RECIPE_SKILL=open|close RECIPE_STEPS=9000]
 RECIPE ?= runs/recipe
 # Every exported episode's room repainted by up to this much (export.room_repaint, mobilemani_rl/render/appearance.py):
