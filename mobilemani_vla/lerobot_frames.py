@@ -27,15 +27,23 @@ CACHE_CAMERAS = {schema.image_key(c, m): f"{c}_{m}" for c in schema.CAMERAS for 
 
 
 class CachedStreams:
-    """Every video stream of one dataset, from the frame cache."""
+    """The video streams of one dataset that the frame cache holds: all of them when they are square frames of
+    one size (as every export writes), none otherwise (then LeRobot decodes them)."""
 
     def __init__(self, root: Path, meta: LeRobotDatasetMetadata) -> None:
-        self.keys = [key for key in meta.video_keys if key not in meta.depth_keys]
-        sizes = {tuple(meta.features[key]["shape"][:2]) for key in self.keys}
-        if len(sizes) != 1 or len(size := sizes.pop()) != 2 or size[0] != size[1]:
-            raise ValueError(f"{root}: the frame cache needs square streams of one size, got {sorted(sizes)}")
-        self.images = cached_images(root, meta, [CACHE_CAMERAS[key] for key in self.keys], size[0])
+        streams = [key for key in meta.video_keys if key not in meta.depth_keys]
+        shapes = sorted({tuple(meta.features[key]["shape"][:2]) for key in streams})
+        self.keys: list[str] = []
         self.fps = meta.fps
+        if len(shapes) != 1 or shapes[0][0] != shapes[0][1]:
+            print(
+                f"{root}: frames decoded per sample (the frame cache holds square frames of one size; "
+                f"these streams are {shapes})",
+                flush=True,
+            )
+            return
+        self.keys = streams
+        self.images = cached_images(root, meta, [CACHE_CAMERAS[key] for key in streams], shapes[0][0])
 
     def frames(self, key: str, episode: dict, timestamps: list[float], as_uint8: bool) -> torch.Tensor:
         """(len(timestamps), 3, H, W) frames of stream `key` at episode-relative `timestamps`, squeezed like

@@ -39,6 +39,16 @@ def test_cached_frames_equal_the_decoded_ones(tmp_path):
     assert open_dataset(root)[5][schema.image_key("head", "rgb")].shape == (2, 3, 32, 32)  # decoding again
 
 
+def test_streams_the_cache_cannot_hold_are_decoded(tmp_path, capsys):
+    root = write_synthetic_dataset(tmp_path / "g1", episodes=1, length=6, height=48, width=64)
+    decoded = open_dataset(root)[3]
+    with served_from_frame_cache():
+        served = open_dataset(root)[3]
+    assert "frames decoded per sample" in capsys.readouterr().out and not (root / "vla_cache").exists()
+    key = schema.image_key("head", "rgb")
+    assert served[key].shape == (2, 3, 48, 64) and torch.equal(served[key], decoded[key])
+
+
 def test_frame_cache_flag_is_taken_out_of_lerobots_arguments():
     assert frame_cache_flag(["--policy.type=act"]) == (True, ["--policy.type=act"])
     assert frame_cache_flag(["--frame_cache=false", "--steps=3"]) == (False, ["--steps=3"])
