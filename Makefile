@@ -48,7 +48,7 @@ bench-ppo: setup
 # PPO teacher (Hydra root conf/rl.yaml), then 256 evaluation episodes:
 #   make rl ROBOT=g1 [OBJECT=test/box SKILL=open PPO=cpu|paper ITERATIONS=300]; OBJECT may be a category (multi-object
 #   policy). ITERATIONS empty: the preset's (cpu: a 2-3.5 min warm start + 3000 iterations = 12.3 M samples, 40-60 min
-#   on 2 cores, what test/can pick needs; test/box open is solved with ITERATIONS=300, 6-10 min).
+#   on 2 cores, what test/can pick needs; test/box open is solved with ITERATIONS=300, 3-10 min).
 OBJECT ?= test/box
 SKILL ?= open
 PPO ?= cpu
