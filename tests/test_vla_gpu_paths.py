@@ -67,14 +67,18 @@ def test_fsdp_full_state_dict_checkpoint_loads_and_runs_no_code(checkpoint, tmp_
     assert not (checkpoint / EMA_WEIGHTS).exists()  # these weights are the trained ones, not an average
 
 
-def test_pretrained_backbone_loads_in_the_configured_dtype_and_feeds_a_float32_head(tmp_path):
+DEVICES = ["cpu"] + (["cuda"] if torch.cuda.is_available() else [])
+
+
+@pytest.mark.parametrize("on", DEVICES)
+def test_pretrained_backbone_loads_in_the_configured_dtype_and_feeds_a_float32_head(tmp_path, on):
     torch.manual_seed(0)
     PaliGemmaForConditionalGeneration(paligemma_config(ModelCfg())).save_pretrained(tmp_path)
     build_word_tokenizer().save_pretrained(tmp_path)
     cfg = compose_vla_cfg(
         [f"model.pretrained_path={tmp_path}", f"model.tokenizer_path={tmp_path}", "model.dtype=bfloat16"]
     )
-    model = build_model(cfg, load_tokenizer(tmp_path))
+    model = build_model(cfg, load_tokenizer(tmp_path)).to(on)
     assert {p.dtype for p in model.backbone.vlm.parameters()} == {torch.bfloat16}
     assert {p.dtype for p in model.head.parameters()} == {torch.float32}
     size = model.backbone.image_size
@@ -86,13 +90,13 @@ def test_pretrained_backbone_loads_in_the_configured_dtype_and_feeds_a_float32_h
         "state": torch.zeros(2, 9),
         "actions": torch.rand(2, 16, 7),
     }
-    loss = model(batch)
+    loss = model({k: v.to(on) for k, v in batch.items()})
     assert loss.dtype == torch.float32 and torch.isfinite(loss)
     with pytest.raises(ValueError, match="model.dtype"):
         compose_vla_cfg(["model.dtype=int8"])
 
 
-@pytest.mark.parametrize("on", ["cpu"] + (["cuda"] if torch.cuda.is_available() else []))
+@pytest.mark.parametrize("on", DEVICES)
 def test_evaluation_noise_generator_lives_on_the_model_device(checkpoint, on):
     policy = VLAEvalPolicy(checkpoint, on)
     policy.start(env=None, seed=3)

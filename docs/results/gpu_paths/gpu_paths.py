@@ -1,8 +1,9 @@
 """GPU-path checks driven by run.sh beside this file (docs/results/gpu_paths.md):
 
 - `gpu_paths.py data DIR`: a synthetic g1 dataset (6 episodes x 40 frames)
-- `gpu_paths.py probe DIR DEVICE OUT`: 3 bf16 training steps in-process with dtype hooks, then a bfloat16
-  backbone feeding the float32 head on DEVICE
+- `gpu_paths.py probe DIR DEVICE OUT`: 3 bf16 training steps in-process with dtype hooks (the run of
+  2026-11-26 also fed a bfloat16 backbone into the float32 head here; that check is now
+  tests/test_vla_gpu_paths.py's, on every available device)
 - `gpu_paths.py policy DEVICE OUT CKPT...`: VLAEvalPolicy on DEVICE: generator device, chunks, timing
 """
 
@@ -52,14 +53,9 @@ def data(root: str) -> None:
 
 
 def probe(root: str, device: str, out: str) -> None:
-    """Which dtypes the modules produce inside accelerate's bf16 training step, and a bfloat16 backbone
-    feeding the float32 head on DEVICE."""
-    from transformers import PaliGemmaForConditionalGeneration
+    """Which dtypes the modules produce inside accelerate's bf16 training step."""
 
-    from mobilemani_vla.backbone import paligemma_config
-    from mobilemani_vla.config import ModelCfg, compose_vla_cfg
-    from mobilemani_vla.model import build_model
-    from mobilemani_vla.tokenizer import build_word_tokenizer, load_tokenizer
+    from mobilemani_vla.config import compose_vla_cfg
     from mobilemani_vla.train import train
 
     out = Path(out)
@@ -117,46 +113,6 @@ def probe(root: str, device: str, out: str) -> None:
         },
     )
 
-    # A bfloat16 pretrained backbone (saved tiny PaliGemma) feeding the float32 head, on DEVICE.
-    tmp = Path(root).parent / "pretrained_tiny"
-    torch.manual_seed(0)
-    PaliGemmaForConditionalGeneration(paligemma_config(ModelCfg())).save_pretrained(tmp)
-    build_word_tokenizer().save_pretrained(tmp)
-    cfg = compose_vla_cfg(
-        [f"model.pretrained_path={tmp}", f"model.tokenizer_path={tmp}", "model.dtype=bfloat16"]
-    )
-    model = build_model(cfg, load_tokenizer(tmp)).to(device)
-    size = model.backbone.image_size
-    enc = build_word_tokenizer()(["open box"] * 2, return_tensors="pt")
-    batch = {
-        "pixel_values": torch.rand(2, 4, 3, size, size),
-        "input_ids": enc["input_ids"],
-        "attention_mask": enc["attention_mask"],
-        "state": torch.zeros(2, 9),
-        "actions": torch.rand(2, 16, 7),
-    }
-    batch = {k: v.to(device) for k, v in batch.items()}
-    loss = model(batch)
-    loss.backward()
-    grads_finite = all(torch.isfinite(q.grad).all().item() for q in model.parameters() if q.grad is not None)
-    model.eval()
-    gen = torch.Generator(device).manual_seed(0)
-    chunk = model.predict(batch, gen)
-    _merge(
-        out,
-        "bf16_backbone",
-        {
-            "device": str(next(model.parameters()).device),
-            "backbone_dtypes": sorted({str(q.dtype) for q in model.backbone.vlm.parameters()}),
-            "head_dtypes": sorted({str(q.dtype) for q in model.head.parameters()}),
-            "loss": loss.item(),
-            "loss_dtype": str(loss.dtype),
-            "grads_finite": grads_finite,
-            "chunk_shape": list(chunk.shape),
-            "chunk_dtype": str(chunk.dtype),
-            "chunk_finite": bool(torch.isfinite(chunk).all()),
-        },
-    )
     print(json.dumps(json.loads(out.read_text()), indent=1), flush=True)
 
 
