@@ -178,8 +178,8 @@ lerobot: setup
 	$(MAKE) eval ROBOT=$(ROBOT) POLICY=lerobot NAME=lerobot_$(LEROBOT_POLICY) \
 		CHECKPOINT=$(LEROBOT_LAST)/pretrained_model
 
-# The whole chain at small scale (21.5 min after `make setup` on the faster of our 2-core machines, docs/results/demo/;
-# rgb_batch16.md; PyTorch runs at half that speed on the slower one, short_schedules.md): a PPO teacher for g1
+# The whole chain at small scale (21.5 min after `make setup` on the faster of our 2-core machines, demo/
+# rgb_batch16.md under docs/results; PyTorch runs at half that speed on the slower one, short_schedules.md): a PPO teacher for g1
 # opening test/box, 160 episodes from it in the 16 train rooms (executed with action noise, DART; each room
 # repainted per episode, 64 px, H.264), the CPU recipe's VLA on the two RGB cameras (vla/model=cpu vla/train=cpu,
 # DEMO_VLA_STEPS steps of 16 samples: 9000 steps in ~14 min), closed-loop evaluation of both over 20 episodes in
