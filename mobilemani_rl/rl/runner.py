@@ -137,9 +137,10 @@ class MobileManiRunner(OnPolicyRunner):
 
     def save(self, path: str, infos: dict | None = None) -> None:
         """Write to a temporary file, then rename: a killed run never leaves a truncated checkpoint. The curve
-        up to the checkpoint is saved with it, so a run resumed after a kill keeps its whole curve."""
+        up to the checkpoint is saved first, so a run resumed after a kill keeps its whole curve (a kill
+        between the two leaves rows past the newest checkpoint, which the resume drops)."""
+        if self.curve_path is not None:
+            write_json_atomic(self.curve_path, self.logger.curve)
         tmp = f"{path}.tmp"
         super().save(tmp, infos)
         os.replace(tmp, path)
-        if self.curve_path is not None:
-            write_json_atomic(self.curve_path, self.logger.curve)
