@@ -63,7 +63,7 @@ class LeRobotEvalPolicy(EvalPolicy):
         self.policy = get_policy_class(config.type).from_pretrained(path, config=config).eval()
         self.pre, self.post = make_pre_post_processors(config, pretrained_path=str(path))
         self.name = f"lerobot_{config.type}"
-        self.device, self.batch_size = torch.device(device), batch_size
+        self.batch_size = batch_size
         theirs_to_ours = {theirs: ours for ours, theirs in (rename or {}).items()}
         self.features = {
             theirs_to_ours.get(k, k): (k, tuple(f.shape)) for k, f in config.input_features.items()
