@@ -63,7 +63,9 @@ def test_arm_joint_matches_urdf(model, urdf_root, joint_name):
     assert abs(abs(float(np.dot(body.quat, expected))) - 1.0) < 1e-6, (body.quat, expected)
     np.testing.assert_allclose(joint.axis, _floats(element.find("axis").get("xyz")), atol=1e-12)
     limit = element.find("limit")
-    np.testing.assert_allclose(joint.range, [float(limit.get("lower")), float(limit.get("upper"))], atol=1e-12)
+    np.testing.assert_allclose(
+        joint.range, [float(limit.get("lower")), float(limit.get("upper"))], atol=1e-12
+    )
     actuator = model.actuator(joint_name)
     np.testing.assert_allclose(actuator.ctrlrange, joint.range, atol=1e-12)
 

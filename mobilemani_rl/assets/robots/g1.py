@@ -2,10 +2,10 @@
 arm, parallel gripper.
 
 The torso and right arm follow the vendored AgiBot URDF (third_party/agibot_g1/G1_omnipicker.urdf, MPL-2.0):
-the chain base_link -> body_link1 -> body_link2 -> arm_base_link -> arm_r_base_link -> arm_r_link1..7 takes its
-joint origins, axes, limits and link inertials from it; collision and visual shapes stay primitive (the URDF's
-meshes are not vendored), sized after the URDF's collision cylinders. The lift (idx01_body_joint1) and waist
-(idx02_body_joint2) are fixed at their default 0, as the reference keeps the torso at 0.
+the chain base_link -> body_link1 -> body_link2 -> arm_base_link -> arm_r_base_link -> arm_r_link1..7 takes
+its joint origins, axes, limits and link inertials from it; collision and visual shapes stay primitive
+(the URDF's meshes are not vendored), sized after the URDF's collision cylinders. The lift (idx01_body_joint1)
+and waist (idx02_body_joint2) are fixed at their default 0, as the reference keeps the torso at 0.
 
 Frame conventions (robot root frame): forward +y, right +x, up +z, as the reference robot whose +y faces the
 object. The URDF is ROS-style (forward +x, left +y; its right arm sits at -y), so a fixed +90° yaw at the root
@@ -54,7 +54,13 @@ URDF_TO_ROOT = (math.sqrt(0.5), 0.0, 0.0, math.sqrt(0.5))
 GRIPPER_REACH = 0.13  # gripper base -> fingertip centre (the palm point)
 FINGER_TRAVEL = 0.04  # per finger; fully open gap = 8 cm
 
-# The reference's default right arm: the gripper points forward, below chest height, in front of the robot.
+# The reference's default right arm. On the URDF arm the palm lands 0.75 m in front of the base, 0.20 m right,
+# 0.68 m up, pointing forward (+y) with the fingers opening horizontally. It sits close to the URDF limits
+# (j2 -1.4 of -1.48, j5 -2.9 of -3.1; the elbow j4 (|q| <= 1.48) leaves the wrist only a 0.38-0.50 m shell
+# around the shoulder): an IK target 15 cm toward the body centre stalls at the j2 limit (test_ik_and_resets).
+# Tried instead: the same palm pose with j5/j7 split (-1.45, -1.45), and a max-margin pose with the palm 7 cm
+# farther forward (-1.96, 1.38, 0.48, 0.70, -0.54, 0.99, -0.09), which passes the IK test: both drop the
+# scripted box open/close to about 0.3 (32 episodes), the reference pose keeps 0.67 / 0.47.
 DEFAULT_ARM = (0.4, -1.4, -0.2, 1.2, -2.9, 0.0, 0.0)
 
 
@@ -133,7 +139,9 @@ def build_g1_spec() -> mujoco.MjSpec:
     torso = _add_urdf_link(base, urdf, lift, quat=URDF_TO_ROOT)  # body_link1
     chest = _add_urdf_link(torso, urdf, waist)  # body_link2: its -y points up
     # The chest box of the URDF's (commented-out) body_link2 collision.
-    add_geom(chest, BOX, (0.1729, 0.0905, 0.156), pos=(0.008, -0.248, 0), quat=quat_from_rpy((0, 0, -math.pi / 2)))
+    add_geom(
+        chest, BOX, (0.1729, 0.0905, 0.156), pos=(0.008, -0.248, 0), quat=quat_from_rpy((0, 0, -math.pi / 2))
+    )
     # Head: at head_link2's place in the URDF (0.18 m forward, 1.15 m up at lift 0), its chain fixed.
     head = add_link(base, "head_link2", (0.0, 0.181, 1.15))
     add_geom(head, BOX, (0.08, 0.08, 0.09), collide=False, rgba=DARK_RGBA, mass=1.0)
