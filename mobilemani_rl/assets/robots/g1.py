@@ -53,6 +53,11 @@ URDF_TO_ROOT = (math.sqrt(0.5), 0.0, 0.0, math.sqrt(0.5))
 
 GRIPPER_REACH = 0.13  # gripper base -> fingertip centre (the palm point)
 FINGER_TRAVEL = 0.04  # per finger; fully open gap = 8 cm
+# Our gripper model's roll on the URDF's end-effector mount (idx91_ee_r_joint), a choice of ours: the URDF
+# gives no gripper geometry that we use. Rolled +90° about its approach axis (+z), the fingers open
+# vertically at the default arm pose (so a horizontal lid or door edge fits between them), as the primitive
+# arm's gripper did; on the bare mount they open horizontally and the scripted box open/close fail.
+GRIPPER_ROLL = np.array([math.sqrt(0.5), 0.0, 0.0, math.sqrt(0.5)])
 
 # The reference's default right arm. On the URDF arm the palm lands 0.75 m in front of the base, 0.20 m right,
 # 0.68 m up, pointing forward (+y) with the fingers opening horizontally. It sits close to the URDF limits
@@ -101,8 +106,11 @@ def _add_urdf_cylinder(body: mujoco.MjsBody, urdf: Urdf, link: str) -> None:
 
 
 def _build_gripper(spec: mujoco.MjSpec, wrist: mujoco.MjsBody, mount: UrdfJoint) -> None:
-    # Our primitive parallel gripper on the URDF's gripper mount: approach +z, fingers open along +x.
-    base = add_link(wrist, "gripper_r_base_link", mount.xyz, mount.quat)
+    # Our primitive parallel gripper on the URDF's gripper mount, rolled GRIPPER_ROLL about the approach axis:
+    # approach +z, fingers open along +x.
+    base = add_link(
+        wrist, "gripper_r_base_link", mount.xyz, quat_mul(np.asarray(mount.quat, float), GRIPPER_ROLL)
+    )
     add_geom(base, BOX, (0.06, 0.025, 0.035), pos=(0, 0, 0.035), rgba=DARK_RGBA, mass=0.4)
     center = add_link(base, "gripper_r_center_link", (0, 0, GRIPPER_REACH))
     center.add_site(name="palm", size=[0.008, 0, 0], rgba=[1, 0, 0, 1], group=4)
