@@ -9,7 +9,7 @@ import mujoco
 import numpy as np
 import pytest
 
-from mobilemani_rl.assets.robots.g1 import ARM_JOINTS, build_g1_spec
+from mobilemani_rl.assets.robots.g1 import ARM_JOINTS, DEFAULT_ARM, REFERENCE_DEFAULT_ARM, build_g1_spec
 from mobilemani_rl.assets.robots.urdf import G1_URDF, THIRD_PARTY, quat_from_rpy, rpy_matrix
 
 
@@ -94,3 +94,23 @@ def test_arm_chain_mount(model, urdf_root):
     rel = base.xmat.reshape(3, 3).T @ (shoulder.xpos - base.xpos)
     # URDF: body_link1 at z 0.6485, body_link2 +0.131 x, arm_base_link +0.305 up, arm_r_base_link 0.025 right.
     np.testing.assert_allclose(rel, [0.025, 0.131, 0.6485 + 0.305], atol=1e-9)
+
+
+def test_default_arm_is_the_reference_palm_pose_with_margin(model):
+    """The default arm puts the palm where the reference's default joint values do (same position and
+    orientation), with the joints away from the URDF limits and the wrist off its singularity (j6 = 0)."""
+    data = mujoco.MjData(model)
+    qpos = [model.joint(name).qposadr[0] for name in ARM_JOINTS]
+
+    def palm(arm):
+        data.qpos[qpos] = arm
+        mujoco.mj_kinematics(model, data)
+        body = data.body("gripper_r_center_link")
+        return body.xpos.copy(), body.xmat.reshape(3, 3).copy()
+
+    (ref_pos, ref_mat), (pos, mat) = palm(REFERENCE_DEFAULT_ARM), palm(DEFAULT_ARM)
+    np.testing.assert_allclose(pos, ref_pos, atol=2e-4)
+    np.testing.assert_allclose(mat, ref_mat, atol=5e-4)
+    limits = np.array([model.joint(name).range for name in ARM_JOINTS])
+    margin = np.minimum(np.array(DEFAULT_ARM) - limits[:, 0], limits[:, 1] - np.array(DEFAULT_ARM))
+    assert margin.min() >= 0.25 and abs(DEFAULT_ARM[5]) > 0.5, margin
