@@ -109,8 +109,8 @@ def test_default_arm_is_the_reference_palm_pose_with_margin(model):
         return body.xpos.copy(), body.xmat.reshape(3, 3).copy()
 
     (ref_pos, ref_mat), (pos, mat) = palm(REFERENCE_DEFAULT_ARM), palm(DEFAULT_ARM)
-    np.testing.assert_allclose(pos, ref_pos, atol=2e-4)
-    np.testing.assert_allclose(mat, ref_mat, atol=5e-4)
+    np.testing.assert_allclose(pos, ref_pos, atol=1e-3)
+    np.testing.assert_allclose(mat, ref_mat, atol=2e-3)
     limits = np.array([model.joint(name).range for name in ARM_JOINTS])
     margin = np.minimum(np.array(DEFAULT_ARM) - limits[:, 0], limits[:, 1] - np.array(DEFAULT_ARM))
     assert margin.min() >= 0.25 and abs(DEFAULT_ARM[5]) > 0.5, margin
