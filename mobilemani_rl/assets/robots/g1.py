@@ -6,6 +6,11 @@ the chain base_link -> body_link1 -> body_link2 -> arm_base_link -> arm_r_base_l
 its joint origins, axes, limits and link inertials from it; collision and visual shapes stay primitive
 (the URDF's meshes are not vendored), sized after the URDF's collision cylinders. The lift (idx01_body_joint1)
 and waist (idx02_body_joint2) are fixed at their default 0, as the reference keeps the torso at 0.
+The shoulder then sits 0.95 m up and the elbow limit keeps the wrist within 0.38-0.50 m of it: a
+forward-pointing palm (within 10° of horizontal) reaches down to about 0.41 m only (random joint samples), so
+handles on the lowest placements (0.36-0.51 m: washing machines, low tabletop doors and lids) are at or past
+the arm's reach, where the scripted policy fails (python -m mobilemani_rl.scripted_table --robots g1: 11 of 39
+rows below 3/3 objects).
 
 Frame conventions (robot root frame): forward +y, right +x, up +z, as the reference robot whose +y faces the
 object. The URDF is ROS-style (forward +x, left +y; its right arm sits at -y), so a fixed +90° yaw at the root
