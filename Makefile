@@ -48,7 +48,7 @@ bench-ppo: setup
 # PPO teacher (Hydra root conf/rl.yaml), then 256 evaluation episodes:
 #   make rl ROBOT=g1 [OBJECT=test/box SKILL=open PPO=cpu|paper ITERATIONS=300]; OBJECT may be a category (multi-object
 #   policy). ITERATIONS empty: the preset's (cpu: a 2-3.5 min warm start + 3000 iterations = 12.3 M samples, 40-60 min
-#   on 2 cores, what test/can pick needs; test/box open is solved with ITERATIONS=300, 6-10 min).
+#   on 2 cores, what test/can pick needs; test/box open is solved with ITERATIONS=300, 3-10 min).
 OBJECT ?= test/box
 SKILL ?= open
 PPO ?= cpu
@@ -178,29 +178,28 @@ lerobot: setup
 	$(MAKE) eval ROBOT=$(ROBOT) POLICY=lerobot NAME=lerobot_$(LEROBOT_POLICY) \
 		CHECKPOINT=$(LEROBOT_LAST)/pretrained_model
 
-# The whole chain at small scale (12 minutes as committed on the faster of our 2-core machines,
-# docs/results/demo/reference_goal.md; 35 on the slower one, where PyTorch runs at half the speed, with 300 PPO
-# iterations and 4 repeated diffusion steps: docs/results/demo/short_schedules.md): a PPO teacher for g1 opening
-# test/box, 48 episodes from it in eight train rooms (executed with action noise, DART; 64 px, H.264), the CPU
-# recipe's VLA (vla/model=cpu vla/train=cpu, DEMO_VLA_STEPS steps at learning rate 1e-3: 50% vs 40% at the recipe's
-# 3e-4 in the same rooms, docs/results/demo/lr_1e-3.md), closed-loop evaluation of both over 20 episodes in the
-# four unseen test rooms, tables and a report (no rollout video: it doubles the evaluation on 2 cores; add
-# EVAL_ARGS video_episodes=1 to `make eval` for one).
+# The whole chain at small scale (~26 min on the faster of our 2-core machines, docs/results/demo/rgb_batch16.md;
+# PyTorch runs at half that speed on the slower one, docs/results/demo/short_schedules.md): a PPO teacher for g1
+# opening test/box, 160 episodes from it in the 16 train rooms (executed with action noise, DART; each room
+# repainted per episode, 64 px, H.264), the CPU recipe's VLA on the two RGB cameras (vla/model=cpu vla/train=cpu,
+# DEMO_VLA_STEPS steps of 16 samples: 9000 steps in ~15 min), closed-loop evaluation of both over 20 episodes in
+# the four unseen test rooms, tables and a report (no rollout video: it doubles the evaluation on 2 cores; add
+# EVAL_ARGS video_episodes=1 to `make eval` for one). Why these settings: the recipe's 95% needs repainted rooms
+# and ~9000 steps (docs/results/vla_cpu_recipe.md), and two RGB streams at batch 16 run 9000 steps in the time
+# that four streams at batch 32 run 3000 (40% in docs/results/demo/scale_and_inputs.md).
 # Every stage resumes or skips finished work, so a rerun after an interruption continues.
 DEMO ?= runs/demo
 DEMO_PPO_ITERATIONS ?= 100
-DEMO_VLA_STEPS ?= 1200
-# The demo's 48 episodes are too few to learn through repainted rooms in its few minutes of training: with 0.6 its
-# VLA scored 10% (1200 steps) and 5% (3000 steps), docs/results/demo/room_repaint.md.
-DEMO_ROOM_REPAINT ?= 0
+DEMO_VLA_STEPS ?= 9000
+DEMO_ROOM_REPAINT ?= 0.6
 demo: setup
 	$(MAKE) rl ROBOT=g1 OBJECT=test/box SKILL=open ITERATIONS=$(DEMO_PPO_ITERATIONS) RL_ARGS="run_dir=$(DEMO)/rl/g1/test/box/open"
 	$(MAKE) data ROBOT=g1 SUBSET=demo TEACHER=ppo DATA_ARGS="data_dir=$(DEMO)/data teacher.runs_dir=$(DEMO)/rl collect.action_noise=0.3 \
 		export.width=64 export.height=64 export.vcodec=h264 export.crf=20 export.modalities=[rgb,depth] \
 		export.room_repaint=$(DEMO_ROOM_REPAINT)"
 	$(MAKE) vla ROBOT=g1 VLA_ARGS="name=demo vla/model=cpu vla/train=cpu data.root=$(DEMO)/data/lerobot \
-		data.heldout_episodes=2 diffusion.repeated_steps=2 train.output_dir=$(DEMO)/vla train.steps=$(DEMO_VLA_STEPS) \
-		train.lr=1e-3 train.warmup_steps=50 \
+		inputs.cameras=[head_rgb,wrist_rgb] train.batch_size=16 data.heldout_episodes=2 diffusion.repeated_steps=2 \
+		train.output_dir=$(DEMO)/vla train.steps=$(DEMO_VLA_STEPS) \
 		train.save_every=$(DEMO_VLA_STEPS) train.diagnose_every=$(DEMO_VLA_STEPS) train.logger=none"
 	$(MAKE) eval ROBOT=g1 POLICY=teacher PROTOCOL=demo NAME=teacher \
 		EVAL_ARGS="output_dir=$(DEMO)/eval policy.runs_dir=$(DEMO)/rl"

@@ -59,7 +59,7 @@ class ExportCfg:
     modalities: list[str] = field(default_factory=lambda: ["rgb", "depth", "seg"])  # any of schema.MODALITIES
     # Each episode's room repainted (colours blended toward random ones by up to this much, lights scaled;
     # robot and object untouched: mobilemani_rl/render/appearance.py), so a policy sees more than the train
-    # rooms' colours. 0: the rooms as built (the paper's data, and `make demo`'s); `make recipe` uses 0.6.
+    # rooms' colours. 0: the rooms as built (the paper's data); `make recipe` and `make demo` use 0.6.
     room_repaint: float = 0.0
     overwrite: bool = False
 

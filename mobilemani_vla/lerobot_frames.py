@@ -24,9 +24,7 @@ from mobilemani_vla.frame_cache import cached_images
 from mobilemani_vla.processor import camera_key
 
 # feature name -> the frame cache's camera name ("observation.images.head_rgb" -> "head_rgb")
-CACHE_CAMERAS = {
-    camera_key(name): name for name in (f"{c}_{m}" for c in schema.CAMERAS for m in schema.MODALITIES)
-}
+CACHE_CAMERAS = {camera_key(f"{c}_{m}"): f"{c}_{m}" for c in schema.CAMERAS for m in schema.MODALITIES}
 
 
 class CachedStreams:

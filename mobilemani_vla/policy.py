@@ -22,7 +22,9 @@ class VLAPolicy:
         self.cfg = cfg
         self.model = model.to(device).eval()
         self.processor = processor
-        self.device = torch.device(device)
+        # The device the weights landed on, with its index ("cuda" -> cuda:0): the noise generator and the
+        # batches are made there, and torch.device("cuda") != torch.device("cuda:0").
+        self.device = next(self.model.parameters()).device
 
     @classmethod
     def load(cls, checkpoint: str | Path, device: str | torch.device = "cpu") -> VLAPolicy:

@@ -92,8 +92,9 @@ def test_pretrained_backbone_loads_in_the_configured_dtype_and_feeds_a_float32_h
         compose_vla_cfg(["model.dtype=int8"])
 
 
-def test_evaluation_noise_generator_lives_on_the_model_device(checkpoint):
-    policy = VLAEvalPolicy(checkpoint)
+@pytest.mark.parametrize("on", ["cpu"] + (["cuda"] if torch.cuda.is_available() else []))
+def test_evaluation_noise_generator_lives_on_the_model_device(checkpoint, on):
+    policy = VLAEvalPolicy(checkpoint, on)
     policy.start(env=None, seed=3)
     device = next(policy.policy.model.parameters()).device
     assert policy.generator.device == device

@@ -49,7 +49,8 @@ def tiny_overrides(root: Path, out: Path) -> list[str]:
 def tiny_cfg(root: Path, out: Path, overrides: list[str] = ()) -> VLACfg:
     with initialize_config_dir(config_dir=CONF, version_base="1.3"):
         return to_dataclass(
-            compose(config_name="vla", overrides=[*overrides, *tiny_overrides(root, out)]),
+            # The caller's overrides come last, so they win over the tiny defaults.
+            compose(config_name="vla", overrides=[*tiny_overrides(root, out), *overrides]),
             VLACfg,
             ignore=ROOT_ONLY,
         ).validate()
@@ -181,11 +182,8 @@ def test_checkpoint_resume_and_policy(dataset_root, tmp_path):
 @pytest.mark.slow
 def test_overfitting_one_episode(tmp_path):
     root = write_synthetic_dataset(tmp_path / "one", episodes=1, length=30)
-    cfg = tiny_cfg(
-        root,
-        tmp_path / "out",
-        ["train.steps=500", "train.lr=1e-3", "train.batch_size=8", "train.save_every=100000"],
-    )
+    overrides = ["train.steps=500", "train.lr=1e-3", "train.batch_size=8", "train.save_every=100000"]
+    cfg = tiny_cfg(root, tmp_path / "out", [*overrides, "data.heldout_episodes=0"])  # the one episode trains
     losses = np.array(train(cfg).losses)
     start, end = losses[:5].mean(), losses[-50:].mean()
     print(
