@@ -7,10 +7,13 @@ its joint origins, axes, limits and link inertials from it; collision and visual
 (the URDF's meshes are not vendored), sized after the URDF's collision cylinders. The lift (idx01_body_joint1)
 and waist (idx02_body_joint2) are fixed at their default 0, as the reference keeps the torso at 0.
 The shoulder then sits 0.95 m up and the elbow limit keeps the wrist within 0.38-0.50 m of it: a
-forward-pointing palm (within 10° of horizontal) reaches down to about 0.41 m only (random joint samples), so
-handles on the lowest placements (0.36-0.51 m: washing machines, low tabletop doors and lids) are at or past
-the arm's reach, where the scripted policy fails (python -m mobilemani_rl.scripted_table --robots g1: 11 of 39
-rows below 3/3 objects).
+forward-pointing palm (within 10° of horizontal) reaches down to about 0.42 m only, and each 10° of downward
+pitch lowers that by 4-5 cm (0.31 m at 20-30°, 0.23 m at 40-50°; 200k random joint samples within the limits,
+palm ahead of the shoulder). Grips and goals on the lowest placements (0.24-0.43 m: washing machines, low
+tabletop doors, lids and faucets, dropped oven and dishwasher doors) are past the forward palm's reach, so the
+scripted policy approaches them with the palm pitched down (ScriptedPolicyCfg.low_grip_*; without it 11 of the
+39 rows of python -m mobilemani_rl.scripted_table --robots g1 fall below 3/3 objects;
+docs/results/g1_urdf_arm/scripted_table_g1.md).
 
 Frame conventions (robot root frame): forward +y, right +x, up +z, as the reference robot whose +y faces the
 object. The URDF is ROS-style (forward +x, left +y; its right arm sits at -y), so a fixed +90° yaw at the root
@@ -222,5 +225,11 @@ G1 = RobotDescription(
     head_camera="head_camera",
     wrist_camera="wrist_camera",
     # docs/results/scripted_success.md says why each value is what it is and what it measured
-    scripted=ScriptedPolicyCfg(move_follow=0.0, approach_from_below=False),
+    scripted=ScriptedPolicyCfg(
+        move_follow=0.0,
+        approach_from_below=False,
+        low_grip_height=0.5,
+        low_grip_tilt_rate=3.0,
+        low_grip_max_tilt=0.8,
+    ),
 )
