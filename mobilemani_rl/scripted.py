@@ -8,7 +8,8 @@ The reward's reference actions approach every handle along the grasp direction (
 comes from the handle's free side instead: every generated grip (bar, knob, lever, tab, lid edge, faucet
 lever) faces -y of the object frame with its joint at 0, so its free side now is that direction turned by the
 joint. For closed objects that is the grasp direction; for a lid standing 40-80° open it is
-the lid's plane, where the fingers can straddle its edge.
+the lid's plane, where the fingers can straddle its edge. An arm that reaches low grips only with the palm
+turned down (the G1's, on its fixed torso) approaches them from above at a pitch that grows with their depth.
 
 A hinged link is moved along its circle rather than straight at the goal. A pull (open, pull, pick) needs the
 grip: it speeds up gradually, keeps the palm where it closed on the link, and grasps again once the grip is
@@ -101,7 +102,7 @@ class ScriptedPolicy:
         if self.from_above:
             return np.broadcast_to(DOWN, (n, 3))
         if not self.follow:
-            return np.broadcast_to(GRASP_DIRECTION, (n, 3))
+            return self.tilted_down(np.broadcast_to(GRASP_DIRECTION, (n, 3)))
         v, idx = env.view, env.index
         direction = quat_apply(v.mocap_quat[:, idx.object_mocap], np.broadcast_to(GRASP_DIRECTION, (n, 3)))
         if self.joint_is_hinge:
@@ -109,7 +110,23 @@ class ScriptedPolicy:
         if not self.cfg.approach_from_below:
             direction[:, 2] = np.minimum(direction[:, 2], 0.0)
         norm = np.linalg.norm(direction, axis=1, keepdims=True)
-        return np.where(norm > 0.3, direction / np.maximum(norm, 1e-9), GRASP_DIRECTION)
+        return self.tilted_down(np.where(norm > 0.3, direction / np.maximum(norm, 1e-9), GRASP_DIRECTION))
+
+    def tilted_down(self, direction: np.ndarray) -> np.ndarray:
+        """(n, 3) approach directions turned down about the horizontal axis across them, the more the lower
+        the grip or its goal sits below `low_grip_height`. The goal counts because a hand that keeps the
+        palm's pitch while moving (move_follow 0) must reach it with the pitch it grasped with: a dropping
+        oven door takes its handle lower than where it was grasped."""
+        cfg = self.cfg
+        if cfg.low_grip_height is None:
+            return direction
+        lowest = np.minimum(self.env.frames.grasp_pos[:, 2], self.env.goal_pos[:, 2])
+        tilt = np.clip(cfg.low_grip_tilt_rate * (cfg.low_grip_height - lowest), 0.0, cfg.low_grip_max_tilt)
+        across = cross(direction, np.broadcast_to(-DOWN, direction.shape))
+        norm = np.linalg.norm(across, axis=1, keepdims=True)
+        # A vertical approach has no horizontal axis across it: it stays as it is.
+        tilt = np.where(norm[:, 0] > 1e-3, tilt, 0.0)
+        return rotate_about(direction, across / np.maximum(norm, 1e-9), -tilt)
 
     def face_rotation(self, approach: np.ndarray) -> np.ndarray:
         """(n, 3) RPY turning the palm onto the approach direction. With the palm rotation, the target is the

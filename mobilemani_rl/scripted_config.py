@@ -39,6 +39,13 @@ class ScriptedPolicyCfg:
     approach_from_below: bool = (
         True  # else a grip facing down (under a dropped door) is approached horizontally
     )
+    # A grip whose lower end of travel (the grip or its goal, whichever is lower) sits below low_grip_height
+    # (m above the floor) is approached with the palm tilted down, by low_grip_tilt_rate rad per metre below
+    # it, at most low_grip_max_tilt: an arm on a fixed torso reaches lower with its palm turned down than
+    # pointing straight ahead (None: never tilted).
+    low_grip_height: float | None = None
+    low_grip_tilt_rate: float = 0.0
+    low_grip_max_tilt: float = 0.0
     push_lids_shut: bool = False  # close a lid by pushing it with the open hand instead of grasping its edge
     hooked_lips: tuple[
         str, ...

@@ -60,3 +60,20 @@ def test_physics_stays_finite_and_contacts_stay_shallow():
     success = first_episode_success(env, ScriptedPolicy(env), seed=1, on_step=inspect)
     assert success.mean() >= 0.6
     assert deepest[0] < 0.015, deepest[0]
+
+
+def test_g1_pitches_the_approach_down_for_low_grips():
+    """The G1 (fixed torso) approaches a grip whose lower end of travel (grip or goal) is below
+    low_grip_height with the palm pitched down, by low_grip_tilt_rate per metre, at most low_grip_max_tilt;
+    the heading stays the grip's free side."""
+    env = MobileManiEnv(EnvCfg(num_envs=16, seed=0, task=TaskCfg("g1", "dishwasher/0000", "open")))
+    env.reset()
+    policy = ScriptedPolicy(env)
+    cfg = policy.cfg
+    lowest = np.minimum(env.frames.grasp_pos[:, 2], env.goal_pos[:, 2])
+    expected = np.clip(cfg.low_grip_tilt_rate * (cfg.low_grip_height - lowest), 0.0, cfg.low_grip_max_tilt)
+    assert (expected > 0).any() and (expected == 0).any()  # both low and high placements in the sample
+    approach = policy.approach_direction()
+    np.testing.assert_allclose(np.arcsin(-approach[:, 2]), expected, atol=1e-9)
+    heading = approach[:, :2] / np.linalg.norm(approach[:, :2], axis=1, keepdims=True)
+    np.testing.assert_allclose(heading, np.tile([0.0, 1.0], (16, 1)), atol=1e-12)

@@ -32,7 +32,6 @@ from mobilemani_rl.assets.robots.builder import (
     add_position_actuator,
 )
 from mobilemani_rl.assets.robots.description import RobotDescription
-from mobilemani_rl.assets.robots.g1 import GRIPPER_QUAT, SHOULDER_HEIGHT
 from mobilemani_rl.scripted_config import ScriptedPolicyCfg
 
 ARM_JOINTS = tuple(f"right_arm_joint{i}" for i in range(1, 8))
@@ -46,6 +45,9 @@ ARM_LIMITS = (
     (-6.283, 6.283),
 )
 UPPER_ARM, FOREARM = 0.30, 0.28
+SHOULDER_HEIGHT = 0.8
+# Hand adapter frame at zero arm angles: approach (+z) = world -z, opening/wrist axis (+x) = world +y.
+GRIPPER_QUAT = (0.0, math.sqrt(0.5), math.sqrt(0.5), 0.0)
 # Forearm pointing forward and slightly down, wrist flexed so that the fingers hang down and the palm faces
 # forward (+y) at (0.2, 0.55, 0.45) in the base frame. The wrist pitch stays far from 0, where the forearm and
 # hand roll axes align.

@@ -1,0 +1,129 @@
+"""A minimal URDF reader (standard library only): joints and link inertials, enough to build a robot's
+kinematic chain with MjSpec. Meshes, visuals and collisions are ignored."""
+
+from __future__ import annotations
+
+import math
+import xml.etree.ElementTree as ET
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+
+from mobilemani_rl.rotations import quat_from_matrix
+
+# third_party/ sits at the repository root, next to the package (the project is installed editable).
+THIRD_PARTY = Path(__file__).resolve().parents[3] / "third_party"
+G1_URDF = THIRD_PARTY / "agibot_g1" / "G1_omnipicker.urdf"
+
+
+@dataclass(frozen=True)
+class UrdfJoint:
+    name: str
+    type: str
+    parent: str
+    child: str
+    xyz: tuple[float, float, float]
+    rpy: tuple[float, float, float]
+    axis: tuple[float, float, float]
+    limits: tuple[float, float] | None
+
+    @property
+    def quat(self) -> np.ndarray:
+        """The origin's rotation as a (w, x, y, z) quaternion."""
+        return quat_from_rpy(self.rpy)
+
+
+@dataclass(frozen=True)
+class UrdfInertial:
+    mass: float
+    xyz: tuple[float, float, float]
+    rpy: tuple[float, float, float]
+    # (ixx, iyy, izz, ixy, ixz, iyz): MuJoCo's fullinertia order, in the inertial frame
+    fullinertia: tuple[float, float, float, float, float, float]
+
+
+@dataclass(frozen=True)
+class UrdfCylinder:
+    xyz: tuple[float, float, float]
+    rpy: tuple[float, float, float]
+    length: float
+    radius: float
+
+
+@dataclass(frozen=True)
+class Urdf:
+    joints: dict[str, UrdfJoint]
+    inertials: dict[str, UrdfInertial]  # links without an <inertial> are absent
+    cylinders: dict[str, UrdfCylinder]  # each link's first cylinder <collision>, where it has one
+
+
+def rpy_matrix(rpy: tuple[float, float, float]) -> np.ndarray:
+    """URDF fixed-axis roll-pitch-yaw: R = Rz(yaw) @ Ry(pitch) @ Rx(roll)."""
+    r, p, y = rpy
+    cr, sr, cp, sp, cy, sy = math.cos(r), math.sin(r), math.cos(p), math.sin(p), math.cos(y), math.sin(y)
+    rx = np.array([[1, 0, 0], [0, cr, -sr], [0, sr, cr]])
+    ry = np.array([[cp, 0, sp], [0, 1, 0], [-sp, 0, cp]])
+    rz = np.array([[cy, -sy, 0], [sy, cy, 0], [0, 0, 1]])
+    return rz @ ry @ rx
+
+
+def quat_from_rpy(rpy: tuple[float, float, float]) -> np.ndarray:
+    quat = np.asarray(quat_from_matrix(rpy_matrix(rpy)), float)
+    return quat if quat[0] >= 0 else -quat
+
+
+def _floats(text: str | None, default: str) -> tuple[float, ...]:
+    return tuple(float(v) for v in (text if text is not None else default).split())
+
+
+def _origin(element: ET.Element | None) -> tuple[tuple[float, ...], tuple[float, ...]]:
+    if element is None:
+        return (0.0, 0.0, 0.0), (0.0, 0.0, 0.0)
+    return _floats(element.get("xyz"), "0 0 0"), _floats(element.get("rpy"), "0 0 0")
+
+
+def load_urdf(path: str | Path) -> Urdf:
+    root = ET.parse(path).getroot()
+    joints = {}
+    for joint in root.findall("joint"):
+        xyz, rpy = _origin(joint.find("origin"))
+        axis = joint.find("axis")
+        limit = joint.find("limit")
+        limits = None
+        if limit is not None and joint.get("type") in ("revolute", "prismatic"):
+            limits = (float(limit.get("lower", "0")), float(limit.get("upper", "0")))
+        joints[joint.get("name")] = UrdfJoint(
+            name=joint.get("name"),
+            type=joint.get("type"),
+            parent=joint.find("parent").get("link"),
+            child=joint.find("child").get("link"),
+            xyz=xyz,
+            rpy=rpy,
+            axis=_floats(axis.get("xyz") if axis is not None else None, "1 0 0"),
+            limits=limits,
+        )
+    inertials = {}
+    for link in root.findall("link"):
+        inertial = link.find("inertial")
+        if inertial is None:
+            continue
+        xyz, rpy = _origin(inertial.find("origin"))
+        tensor = inertial.find("inertia")
+        inertials[link.get("name")] = UrdfInertial(
+            mass=float(inertial.find("mass").get("value")),
+            xyz=xyz,
+            rpy=rpy,
+            fullinertia=tuple(float(tensor.get(k, "0")) for k in ("ixx", "iyy", "izz", "ixy", "ixz", "iyz")),
+        )
+    cylinders = {}
+    for link in root.findall("link"):
+        for collision in link.findall("collision"):
+            cylinder = collision.find("geometry/cylinder")
+            if cylinder is not None:
+                xyz, rpy = _origin(collision.find("origin"))
+                cylinders[link.get("name")] = UrdfCylinder(
+                    xyz, rpy, float(cylinder.get("length")), float(cylinder.get("radius"))
+                )
+                break
+    return Urdf(joints=joints, inertials=inertials, cylinders=cylinders)
