@@ -8,9 +8,11 @@ Each row trains one category-level policy on up to `objects_per_policy` of the c
 all of the category's train and test objects (`eval_episodes` seeded episodes each). Rows run one after
 another; a row whose evaluation exists is skipped, and an interrupted row resumes from its newest checkpoint
 (training's own resume), so rerunning the same command continues where it stopped. After every row the sweep
-rewrites `<out>/teachers_<robot>.json` and `.md` (per row: test and train success, samples, wall minutes, the
-command that recreates it) and the paper's teacher tables computed on test objects (`rl_by_skill`,
-`rl_by_category`). Checkpoints stay under `--runs`.
+rewrites `<out>/teachers_<robot>.json` and `.md` with every row finished so far, also by earlier runs over
+other rows (per row: test and train success, the warm start's scripted success, samples, wall minutes, the
+command that recreates it; rows below the paper's skill mean with the stage they fall short in), and the
+paper's teacher tables computed on test objects (`rl_by_skill`, `rl_by_category`). Checkpoints stay under
+`--runs`.
 """
 
 from __future__ import annotations
@@ -30,15 +32,23 @@ from mobilemani_rl.eval import evaluate
 from mobilemani_rl.io import write_json_atomic
 from mobilemani_rl.registry import InputError, check_choice
 from mobilemani_rl.rl.config import RLCfg
-from mobilemani_rl.rl.run_dir import RESULT, is_complete, latest_checkpoint
+from mobilemani_rl.rl.run_dir import RESULT, WARM_START, is_complete, latest_checkpoint
 from mobilemani_rl.schema import to_dataclass
 from mobilemani_rl.tables import pct
-from mobilemani_rl.teacher_tables import newest_results, object_success, write_tables
+from mobilemani_rl.teacher_tables import (
+    PAPER_BY_SKILL,
+    ROBOTS,
+    newest_results,
+    object_success,
+    write_tables,
+)
 from mobilemani_rl.train import train
 
 CONF = str(Path(__file__).resolve().parents[1] / "conf")
 EVAL_SEED = 1000  # the seed `python -m mobilemani_rl.train eval_episodes=N` evaluates with
 WALL = "sweep_seconds.json"  # wall seconds of a row, summed over its finished or Ctrl-C'd attempts
+FAILING = 0.5  # a test object below this success is named in a low row's diagnosis
+GENERALISATION_GAP = 0.15  # trained minus test success beyond which a low row is called a transfer failure
 
 
 def rows(categories: list[str] | None = None, skills: list[str] | None = None) -> list[tuple[str, str]]:
@@ -99,6 +109,12 @@ def run_row(cfg: DictConfig) -> None:
             write_json_atomic(run_dir / WALL, {"seconds": round(spent, 1)})
 
 
+def warm_start_success(run_dir: Path) -> float | None:
+    """The scripted demonstrations' success on the trained objects (None: trained from scratch)."""
+    path = run_dir / WARM_START
+    return json.loads(path.read_text())["scripted_success"] if path.is_file() else None
+
+
 def row_record(robot: str, category: str, skill: str, run_dir: Path, command: str) -> dict:
     """What the tables need from a finished row: success on test and on trained objects, cost, command."""
     evaluation = json.loads(evaluation_file(run_dir).read_text())
@@ -111,6 +127,12 @@ def row_record(robot: str, category: str, skill: str, run_dir: Path, command: st
         "skill": skill,
         "test_success": float(np.mean(test)) if test else None,
         "train_success": evaluation["success_rate"],  # the trained objects
+        "scripted_success": warm_start_success(run_dir),
+        "failing_test_objects": sorted(
+            object_id
+            for object_id, o in evaluation["objects"].items()
+            if o["split"] == "test" and o["success_rate"] < FAILING
+        ),
         "test_objects": len(test),
         "trained_objects": sum(o["trained"] for o in objects),
         "episodes_per_object": evaluation["episodes_per_object"],
@@ -120,18 +142,52 @@ def row_record(robot: str, category: str, skill: str, run_dir: Path, command: st
     }
 
 
+def paper_skill_mean(robot: str, skill: str) -> float:
+    return PAPER_BY_SKILL[skill][ROBOTS.index(robot)] / 100.0
+
+
+def diagnosis(record: dict) -> str:
+    """Which measured stage a row below the paper's skill mean falls short in."""
+    test, train, scripted = record["test_success"], record["train_success"], record["scripted_success"]
+    failing = ", ".join(record["failing_test_objects"]) or "none"
+    if scripted is not None and scripted < paper_skill_mean(record["robot"], record["skill"]):
+        stage = f"the warm start's scripted demonstrations succeed on {pct(scripted)}% of the trained objects"
+    elif train - test > GENERALISATION_GAP:
+        stage = f"trained objects {pct(train)}% but test objects {pct(test)}%: the policy does not carry over"
+    else:
+        start = "from scratch" if scripted is None else f"from scripted demonstrations at {pct(scripted)}%"
+        stage = f"trained objects {pct(train)}%, trained {start}"
+    return f"{stage}; test objects below {pct(FAILING)}%: {failing}"
+
+
+def merged_records(path: Path, new: list[dict]) -> list[dict]:
+    """`new` over the records already in `path` (earlier runs of other rows), in catalog order."""
+    old = json.loads(path.read_text()) if path.is_file() else []
+    by_row = {(r["category"], r["skill"]): r for r in [*old, *new]}
+    return [by_row[row] for row in rows() if row in by_row]
+
+
 def rows_markdown(records: list[dict], total: int) -> str:
     lines = [
         f"{len(records)} of {total} rows finished. Success (%) over the category's test objects (not trained "
-        "on) and over the trained train objects.",
+        "on), over the trained train objects, and of the warm start's scripted demonstrations on them.",
         "",
-        "| category | skill | test success | train success | test / trained objects | samples | wall min |",
-        "|---|---|---:|---:|---:|---:|---:|",
+        "| category | skill | test success | train success | scripted | test / trained objects | samples "
+        "| wall min |",
+        "|---|---|---:|---:|---:|---:|---:|---:|",
     ]
     lines += [
         f"| {r['category']} | {r['skill']} | {pct(r['test_success'])} | {pct(r['train_success'])} | "
-        f"{r['test_objects']} / {r['trained_objects']} | {r['samples']:,} | {r['wall_minutes']} |"
+        f"{pct(r['scripted_success'])} | {r['test_objects']} / {r['trained_objects']} | {r['samples']:,} "
+        f"| {r['wall_minutes']} |"
         for r in records
+    ]
+    below = [r for r in records if r["test_success"] < paper_skill_mean(r["robot"], r["skill"])]
+    lines += ["", f"Rows below the paper's mean for their skill ({len(below)}):", ""]
+    lines += [
+        f"- {r['category']} {r['skill']}: {pct(r['test_success'])}% vs the paper's "
+        f"{pct(paper_skill_mean(r['robot'], r['skill']))}%; {diagnosis(r)}"
+        for r in below
     ]
     return "\n".join(lines) + "\n"
 
@@ -163,8 +219,10 @@ def main(argv: list[str] | None = None) -> None:
         command = "python -m mobilemani_rl.train " + " ".join(row_args)
         records.append(row_record(args.robot, category, skill, run_dir, command))
         args.out.mkdir(parents=True, exist_ok=True)
-        write_json_atomic(args.out / f"teachers_{args.robot}.json", records)
-        (args.out / f"teachers_{args.robot}.md").write_text(rows_markdown(records, len(todo)))
+        rows_file = args.out / f"teachers_{args.robot}.json"
+        everything = merged_records(rows_file, records)
+        write_json_atomic(rows_file, everything)
+        (args.out / f"teachers_{args.robot}.md").write_text(rows_markdown(everything, len(rows())))
         write_tables(object_success(newest_results(args.runs), split="test"), args.out)
 
 

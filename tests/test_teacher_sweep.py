@@ -27,7 +27,7 @@ def test_a_row_trains_evaluates_on_test_objects_and_is_skipped_when_done(tmp_pat
     assert row["test_objects"] == 2 and row["trained_objects"] == 1  # microwave: 3 train, 2 test objects
     assert 0.0 <= row["test_success"] <= 1.0 and row["samples"] == 3 * 8 * 8  # tiny: 3 iterations x 8 x 8
     assert row["wall_minutes"] is not None and "task.object=microwave" in row["command"]
-    assert "1 of 1 rows finished" in (out / "teachers_g1.md").read_text()
+    assert "1 of 39 rows finished" in (out / "teachers_g1.md").read_text()
     by_skill = (out / "rl_by_skill.md").read_text()
     assert "| Open |" in by_skill and "86.6" in by_skill  # ours beside the paper's
     assert (out / "rl_by_skill.tex").is_file() and (out / "rl_by_category.tex").is_file()
@@ -36,6 +36,37 @@ def test_a_row_trains_evaluates_on_test_objects_and_is_skipped_when_done(tmp_pat
     teacher_sweep.main(args)  # rerun: the finished row is not trained or evaluated again
     assert {p.name: p.stat().st_mtime for p in run_dir.iterdir()} == before
     assert json.loads((out / "teachers_g1.json").read_text()) == records
+    teacher_sweep.main([*args[:-1], "close"])  # another row: the files keep the first one
+    rows = [(r["category"], r["skill"]) for r in json.loads((out / "teachers_g1.json").read_text())]
+    assert rows == [("microwave", "open"), ("microwave", "close")]
+    assert "2 of 39 rows finished" in (out / "teachers_g1.md").read_text()
+
+
+def record(test: float, train: float, scripted: float | None, failing: list[str]) -> dict:
+    return {
+        "robot": "g1",
+        "category": "box",
+        "skill": "open",
+        "test_success": test,
+        "train_success": train,
+        "scripted_success": scripted,
+        "failing_test_objects": failing,
+        "test_objects": 4,
+        "trained_objects": 8,
+        "samples": 1,
+        "wall_minutes": 1.0,
+    }
+
+
+def test_rows_below_the_papers_skill_mean_name_the_stage_they_fall_short_in():
+    assert "0.80" not in teacher_sweep.diagnosis(record(0.5, 0.9, 0.8, []))  # percentages, not fractions
+    weak_demos = teacher_sweep.diagnosis(record(0.5, 0.6, 0.4, ["box/0012"]))
+    assert "scripted demonstrations succeed on 40.0%" in weak_demos and "box/0012" in weak_demos
+    assert "does not carry over" in teacher_sweep.diagnosis(record(0.5, 0.9, 0.95, ["box/0010", "box/0011"]))
+    assert "60.0%, trained from scratch" in teacher_sweep.diagnosis(record(0.5, 0.6, None, []))
+    above = {**record(0.97, 0.97, 1.0, []), "skill": "close"}  # the paper's G1 close: 96.2%
+    text = teacher_sweep.rows_markdown([record(0.5, 0.6, None, []), above], 39)
+    assert "Rows below the paper's mean for their skill (1):" in text and "- box open: 50.0% vs" in text
 
 
 def test_bad_rows_and_missing_evaluation_are_refused_before_training(tmp_path):
