@@ -29,7 +29,8 @@ class ConfigMismatchError(InputError):
 def check_choice(value: str, choices: Iterable[str], kind: str) -> str:
     choices = list(choices)
     if value not in choices:
-        raise UnknownNameError(f"unknown {kind} {value!r}; valid {kind}s: {', '.join(sorted(choices))}")
+        kinds = f"{kind[:-1]}ies" if kind.endswith("y") else f"{kind}s"
+        raise UnknownNameError(f"unknown {kind} {value!r}; valid {kinds}: {', '.join(sorted(choices))}")
     return value
 
 

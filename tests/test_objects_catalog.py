@@ -70,7 +70,7 @@ def test_ids_are_deterministic():
 def test_unknown_names_raise_one_clear_error():
     with pytest.raises(UnknownNameError, match="valid objects: .*box/0000"):
         get_object("box/9999")
-    with pytest.raises(UnknownNameError, match="valid categorys: .*washing_machine"):
+    with pytest.raises(UnknownNameError, match="valid categories: .*washing_machine"):
         catalog_ids("washer")
     with pytest.raises(UnknownNameError, match="valid splits: test, train"):
         catalog_ids(split="val")
