@@ -42,7 +42,7 @@ def test_a_row_trains_evaluates_on_test_objects_and_is_skipped_when_done(tmp_pat
     assert "2 of 39 rows finished" in (out / "teachers_g1.md").read_text()
 
 
-def record(test: float, train: float, scripted: float | None, failing: list[str]) -> dict:
+def record(test: float, train: float, scripted: float | None, objects: dict[str, float]) -> dict:
     return {
         "robot": "g1",
         "category": "box",
@@ -50,7 +50,7 @@ def record(test: float, train: float, scripted: float | None, failing: list[str]
         "test_success": test,
         "train_success": train,
         "scripted_success": scripted,
-        "failing_test_objects": failing,
+        "test_object_success": objects,
         "test_objects": 4,
         "trained_objects": 8,
         "samples": 1,
@@ -59,13 +59,15 @@ def record(test: float, train: float, scripted: float | None, failing: list[str]
 
 
 def test_rows_below_the_papers_skill_mean_name_the_stage_they_fall_short_in():
-    assert "0.80" not in teacher_sweep.diagnosis(record(0.5, 0.9, 0.8, []))  # percentages, not fractions
-    weak_demos = teacher_sweep.diagnosis(record(0.5, 0.6, 0.4, ["box/0012"]))
-    assert "scripted demonstrations succeed on 40.0%" in weak_demos and "box/0012" in weak_demos
-    assert "does not carry over" in teacher_sweep.diagnosis(record(0.5, 0.9, 0.95, ["box/0010", "box/0011"]))
-    assert "60.0%, trained from scratch" in teacher_sweep.diagnosis(record(0.5, 0.6, None, []))
-    above = {**record(0.97, 0.97, 1.0, []), "skill": "close"}  # the paper's G1 close: 96.2%
-    text = teacher_sweep.rows_markdown([record(0.5, 0.6, None, []), above], 39)
+    assert "0.80" not in teacher_sweep.diagnosis(record(0.5, 0.9, 0.8, {}))  # percentages, not fractions
+    objects = {"box/0010": 0.9, "box/0011": 0.2, "box/0012": 0.4}
+    weak_demos = teacher_sweep.diagnosis(record(0.5, 0.6, 0.4, objects))
+    assert "scripted demonstrations succeed on 40.0%" in weak_demos
+    assert weak_demos.endswith("weakest test objects: box/0011 20.0%, box/0012 40.0%")
+    assert "does not carry over" in teacher_sweep.diagnosis(record(0.5, 0.9, 0.95, objects))
+    assert "60.0%, trained from scratch" in teacher_sweep.diagnosis(record(0.5, 0.6, None, {}))
+    above = {**record(0.97, 0.97, 1.0, {}), "skill": "close"}  # the paper's G1 close: 96.2%
+    text = teacher_sweep.rows_markdown([record(0.5, 0.6, None, {}), above], 39)
     assert "Rows below the paper's mean for their skill (1):" in text and "- box open: 50.0% vs" in text
 
 
