@@ -111,6 +111,10 @@ def test_entry_points_end_bad_input_with_one_line_and_keep_tracebacks_for_bugs(t
         ("task.skill=fly", "unknown skill 'fly'; valid skills: close, open"),
         ("logger=foo", "unknown logger 'foo'; valid loggers: tensorboard, wandb"),
         ("rl.ppo.activation=foo", "rl.ppo.activation: Invalid activation function 'foo'"),
+        (
+            "rl.ppo.precision=fp16",
+            "unknown rl.ppo.precision 'fp16'; valid rl.ppo.precisions: auto, bf16, fp32",
+        ),
         ("env.num_envs=4", r"env.num_envs=4 \(set it through rl.ppo.num_envs\)"),
         ("env.seed=4", r"env.seed=4 \(set it through rl.ppo.seed\)"),
     ],

@@ -2,10 +2,10 @@
 against the raw physics limit of the same model and env count measured in the same run.
 
     python -m mobilemani_rl.rl.bench [--presets cpu paper] [--robots g1 xhand] [--iterations 3]
-                                     [--update-threads 1 2]
+                                     [--variants "rl.ppo.precision=fp32" "rl.ppo.precision=bf16"]
 
---update-threads measures each preset with each count of torch threads for the network update (default: the
-preset's own), in the same run.
+--variants measures each preset once per variant, a space-separated list of Hydra overrides on top of the
+preset (default: the preset alone), in the same run: before and after a change on the same machine load.
 
 Prints a table and JSON.
 """
@@ -20,17 +20,15 @@ import numpy as np
 from hydra import compose, initialize_config_dir
 
 from mobilemani_rl.bench import interleaved_rates, print_report, raw_physics_replay
-from mobilemani_rl.rl.config import RLCfg
+from mobilemani_rl.rl.config import RLCfg, update_precision
 from mobilemani_rl.rl.factory import build_runner
 from mobilemani_rl.schema import to_dataclass
 
 CONF = str(Path(__file__).resolve().parents[2] / "conf")
 
 
-def bench_preset(preset: str, robot: str, iterations: int, update_threads: int | None = None) -> dict:
-    overrides = [f"rl/ppo={preset}", f"robot={robot}"]
-    if update_threads is not None:
-        overrides.append(f"rl.ppo.update_threads={update_threads}")
+def bench_preset(preset: str, robot: str, iterations: int, variant: str = "") -> dict:
+    overrides = [f"rl/ppo={preset}", f"robot={robot}", *variant.split()]
     with initialize_config_dir(config_dir=CONF, version_base="1.3"):
         cfg = compose(config_name="rl", overrides=overrides)
     ppo = to_dataclass(cfg, RLCfg).rl.ppo
@@ -48,8 +46,10 @@ def bench_preset(preset: str, robot: str, iterations: int, update_threads: int |
     return {
         "preset": preset,
         "robot": robot,
+        "variant": variant or "-",
         "num_envs": ppo.num_envs,
         "update_threads": ppo.update_threads,
+        "precision": update_precision(ppo),
         "iterations": iterations,
         "samples_per_s": round(rate),
         "raw_env_steps_per_s": round(raw),
@@ -64,20 +64,20 @@ def main(argv: list[str] | None = None) -> list[dict]:
     parser.add_argument("--presets", nargs="+", default=["cpu", "paper"])
     parser.add_argument("--robots", nargs="+", default=["g1", "xhand"])
     parser.add_argument("--iterations", type=int, default=3)
-    parser.add_argument("--update-threads", type=int, nargs="+", default=[None])
+    parser.add_argument("--variants", nargs="+", default=[""])
     args = parser.parse_args(argv)
     results = [
-        bench_preset(p, r, args.iterations, threads)
+        bench_preset(p, r, args.iterations, variant)
         for p in args.presets
         for r in args.robots
-        for threads in args.update_threads
+        for variant in args.variants
     ]
     print_report(
         "ppo",
         results,
-        f"{'preset':6} {'robot':6} {'envs':>5} {'update threads':>14} {'samples/s':>10} "
+        f"{'preset':6} {'robot':6} {'variant':36} {'precision':9} {'envs':>5} {'samples/s':>10} "
         f"{'raw steps/s':>12} {'ppo/raw':>8}",
-        "{preset:6} {robot:6} {num_envs:5d} {update_threads:14d} {samples_per_s:10d} "
+        "{preset:6} {robot:6} {variant:36} {precision:9} {num_envs:5d} {samples_per_s:10d} "
         "{raw_env_steps_per_s:12d} {ppo_over_raw:8.3f}",
     )
     return results

@@ -13,6 +13,7 @@ from mobilemani_rl.schema import register_schema
 
 LOGGERS = ("tensorboard", "wandb")
 SCHEDULES = ("adaptive", "fixed")  # rsl-rl's PPO learning-rate schedules
+PRECISIONS = ("fp32", "bf16", "auto")  # of the PPO update's forward passes
 
 
 @dataclass
@@ -66,6 +67,9 @@ class PpoCfg:
     torch_threads: int = 0  # threads while collecting (policy inference beside MuJoCo); 0: torch's default
     # threads for the network updates (PPO epochs, warm-start fitting), MuJoCo idle; 0: torch's default
     update_threads: int = 0
+    # The update's forward passes: bf16 autocast (rsl-rl's use_mixed_precision, output layers kept in fp32),
+    # fp32 (reference), or auto: bf16 where the CPU multiplies bf16 natively (AVX512-BF16 or AMX), else fp32
+    precision: str = "fp32"
     warm_start: WarmStartCfg = field(default_factory=WarmStartCfg)
 
 
@@ -113,6 +117,7 @@ class RLCfg:
             raise InputError(f"eval_episodes={self.eval_episodes} must be 0 (no evaluation) or more")
         check_choice(self.logger, LOGGERS, "logger")
         check_choice(ppo.schedule, SCHEDULES, "rl.ppo.schedule")
+        check_choice(ppo.precision, PRECISIONS, "rl.ppo.precision")
         try:
             resolve_nn_activation(ppo.activation)
         except ValueError as err:
@@ -151,6 +156,16 @@ class EvalRlCfg:
 
 register_schema("rl_schema", RLCfg)
 register_schema("eval_rl_schema", EvalRlCfg)
+
+
+def update_precision(ppo: PpoCfg) -> str:
+    """fp32 or bf16: `auto` picks bf16 only where it is fast (emulated bf16 is slower than fp32)."""
+    if ppo.precision != "auto":
+        return ppo.precision
+    import torch
+
+    native = torch.cpu._is_avx512_bf16_supported() or torch.cpu._is_amx_tile_supported()
+    return "bf16" if native else "fp32"
 
 
 def rsl_rl_train_cfg(ppo: PpoCfg, logger: dict | str, run_name: str) -> dict:
@@ -194,6 +209,7 @@ def rsl_rl_train_cfg(ppo: PpoCfg, logger: dict | str, run_name: str) -> dict:
             "entropy_coef": ppo.entropy_coef,
             "max_grad_norm": ppo.max_grad_norm,
             "normalize_advantage_per_mini_batch": ppo.normalize_advantage_per_mini_batch,
+            "use_mixed_precision": update_precision(ppo) == "bf16",
         },
         "actor": model(ppo.actor_hidden_dims, distribution=True),
         "critic": model(ppo.critic_hidden_dims, distribution=False),
