@@ -15,7 +15,7 @@ import time
 from pathlib import Path
 
 import hydra
-from omegaconf import DictConfig
+from omegaconf import DictConfig, OmegaConf
 
 from mobilemani_rl.cli import entry_point
 from mobilemani_rl.eval import evaluate
@@ -54,7 +54,8 @@ def load_newest_readable(runner: MobileManiRunner, run_dir: Path) -> Path | None
 def train(cfg: DictConfig) -> Path:
     ppo = to_dataclass(cfg, RLCfg).check().rl.ppo  # before anything is written
     run_dir = Path(cfg.run_dir)
-    save_or_check_config(run_dir, cfg, RUN_KEYS)  # first: a finished run asked for other settings is an error
+    # first: a finished run asked for other settings is an error
+    save_or_check_config(run_dir, cfg, RUN_KEYS, OmegaConf.to_container(OmegaConf.structured(RLCfg)))
     if is_complete(run_dir):
         print(f"{run_dir} is complete ({RESULT} exists); nothing to do")
         return run_dir

@@ -5,6 +5,7 @@ from pathlib import Path
 import pytest
 from data_helpers import tiny_cfg
 from lerobot.datasets.dataset_metadata import LeRobotDatasetMetadata
+from omegaconf import OmegaConf
 
 from mobilemani_data.metadata import check_dataset_files
 from mobilemani_data.validate import validate
@@ -159,6 +160,27 @@ def test_a_changed_run_names_each_changed_key(tmp_path):
     changed = compose_root("rl", ["rl/ppo=tiny", f"run_dir={run_dir}", "rl.ppo.max_iterations=5"])
     with pytest.raises(ConfigMismatchError, match=r"\(rl.ppo.max_iterations: 3 -> 5\)"):
         save_or_check_config(run_dir, changed, ("rl",))
+
+
+def test_a_run_saved_before_a_key_existed_resumes_with_its_default(tmp_path):
+    """A run started before `rl.ppo.precision` existed trained in fp32, the default: it resumes with that
+    value and refuses another, naming it."""
+    from mobilemani_rl.registry import ConfigMismatchError
+    from mobilemani_rl.rl.config import RLCfg
+    from mobilemani_rl.rl.run_dir import save_or_check_config
+
+    run_dir = tmp_path / "run"
+    save_or_check_config(run_dir, compose_root("rl", ["rl/ppo=tiny", f"run_dir={run_dir}"]), ("rl",))
+    saved = OmegaConf.load(run_dir / "config.yaml")
+    del saved.rl.ppo["precision"]  # what an older version wrote
+    OmegaConf.save(saved, run_dir / "config.yaml")
+    (run_dir / "model_2.pt").touch()  # it has something to resume
+    defaults = OmegaConf.to_container(OmegaConf.structured(RLCfg))
+    resumed = compose_root("rl", ["rl/ppo=tiny", f"run_dir={run_dir}"])
+    save_or_check_config(run_dir, resumed, ("rl",), defaults)
+    changed = compose_root("rl", ["rl/ppo=tiny", f"run_dir={run_dir}", "rl.ppo.precision=bf16"])
+    with pytest.raises(ConfigMismatchError, match=r"\(rl.ppo.precision: fp32 -> bf16\)"):
+        save_or_check_config(run_dir, changed, ("rl",), defaults)
 
 
 def test_an_unknown_video_encoder_is_refused_by_its_key():

@@ -40,10 +40,13 @@ def is_complete(run_dir: Path) -> bool:
     return (run_dir / RESULT).exists()
 
 
-def save_or_check_config(run_dir: Path, cfg: DictConfig, keys: tuple[str, ...]) -> None:
+def save_or_check_config(
+    run_dir: Path, cfg: DictConfig, keys: tuple[str, ...], defaults: dict | None = None
+) -> None:
     """Store the (resolved) config of a new run; for an existing run, require the same values under `keys`. A
     run that stopped before its first checkpoint (or its finished warm start) has nothing to resume, so its
-    config is simply replaced."""
+    config is simply replaced. A key the saved config lacks (it was added to the schema later) counts as its
+    value in `defaults`, the value the run was trained with."""
     path = run_dir / CONFIG
     current = OmegaConf.create(OmegaConf.to_container(cfg, resolve=True))
     if not path.exists() or (
@@ -52,7 +55,8 @@ def save_or_check_config(run_dir: Path, cfg: DictConfig, keys: tuple[str, ...]) 
         run_dir.mkdir(parents=True, exist_ok=True)
         OmegaConf.save(current, path)
         return
-    saved, wanted = OmegaConf.to_container(OmegaConf.load(path)), OmegaConf.to_container(current)
+    saved = OmegaConf.merge(OmegaConf.create(defaults or {}), OmegaConf.load(path))
+    saved, wanted = OmegaConf.to_container(saved), OmegaConf.to_container(current)
     per_key = {k: changed_values(saved, wanted, (k,)) for k in keys}
     if differing := [k for k, changes in per_key.items() if changes]:
         changes = [change for k in differing for change in per_key[k]]
