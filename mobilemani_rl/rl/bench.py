@@ -5,7 +5,8 @@ against the raw physics limit of the same model and env count measured in the sa
                                      [--variants "rl.ppo.precision=fp32" "rl.ppo.precision=bf16"]
 
 --variants measures each preset once per variant, a space-separated list of Hydra overrides on top of the
-preset (default: the preset alone), in the same run: before and after a change on the same machine load.
+preset (default, or `-`: the preset alone), in the same run: before and after a change on the same machine
+load.
 
 Prints a table and JSON.
 """
@@ -27,8 +28,9 @@ from mobilemani_rl.schema import to_dataclass
 CONF = str(Path(__file__).resolve().parents[2] / "conf")
 
 
-def bench_preset(preset: str, robot: str, iterations: int, variant: str = "") -> dict:
-    overrides = [f"rl/ppo={preset}", f"robot={robot}", *variant.split()]
+def bench_preset(preset: str, robot: str, iterations: int, variant: str = "-") -> dict:
+    extra = [] if variant == "-" else variant.split()  # "-": the preset alone, as the report prints it
+    overrides = [f"rl/ppo={preset}", f"robot={robot}", *extra]
     with initialize_config_dir(config_dir=CONF, version_base="1.3"):
         cfg = compose(config_name="rl", overrides=overrides)
     ppo = to_dataclass(cfg, RLCfg).rl.ppo
@@ -46,7 +48,7 @@ def bench_preset(preset: str, robot: str, iterations: int, variant: str = "") ->
     return {
         "preset": preset,
         "robot": robot,
-        "variant": variant or "-",
+        "variant": variant,
         "num_envs": ppo.num_envs,
         "update_threads": ppo.update_threads,
         "precision": update_precision(ppo),
@@ -64,7 +66,7 @@ def main(argv: list[str] | None = None) -> list[dict]:
     parser.add_argument("--presets", nargs="+", default=["cpu", "paper"])
     parser.add_argument("--robots", nargs="+", default=["g1", "xhand"])
     parser.add_argument("--iterations", type=int, default=3)
-    parser.add_argument("--variants", nargs="+", default=[""])
+    parser.add_argument("--variants", nargs="+", default=["-"])
     args = parser.parse_args(argv)
     results = [
         bench_preset(p, r, args.iterations, variant)
