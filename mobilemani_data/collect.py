@@ -3,8 +3,10 @@
     python -m mobilemani_data.collect robot=g1 data/subset=small [data/teacher=ppo] [subset.episodes=10]
 
 Complete shards are skipped, so a rerun (or a resumed multirun job) only fills in what is missing; a killed
-run leaves at most a `.partial` file, which the rerun overwrites. The count of combinations to collect is
-printed up front, and every combination's line ends with progress and an ETA.
+run leaves at most a `.partial` file, which the rerun overwrites. A rerun whose settings would have made other
+episodes (teacher kind, episode count, seed, action noise) stops before collecting, as does one missing a PPO
+teacher. The count of combinations to collect is printed up front, and every combination's line ends with
+progress and an ETA.
 """
 
 from __future__ import annotations
@@ -19,13 +21,42 @@ from mobilemani_data import schema
 from mobilemani_data.combos import shard_of, shard_path
 from mobilemani_data.config import DataCfg
 from mobilemani_data.recorder import collect_successes
-from mobilemani_data.shards import is_complete, write_shard
-from mobilemani_data.teachers import TeacherUnavailable, build_teacher
+from mobilemani_data.shards import is_complete, read_header, write_shard
+from mobilemani_data.teachers import TeacherUnavailable, build_teacher, check_teachers_exist
 from mobilemani_rl.cli import entry_point
 from mobilemani_rl.envs.config import with_env_task
 from mobilemani_rl.progress import Progress
-from mobilemani_rl.schema import to_dataclass
+from mobilemani_rl.registry import ConfigMismatchError
+from mobilemani_rl.schema import changed_values, to_dataclass
 from mobilemani_rl.tasks import Combination, select_combinations
+
+
+def episode_settings(cfg: DataCfg, combo: Combination) -> dict:
+    """The settings besides the env that decide a combination's episodes, as its shard's header records
+    them."""
+    return {
+        "teacher": cfg.teacher.kind,
+        "requested": cfg.subset.episodes,
+        "seed": combo.seed(cfg.collect.seed),
+        "action_noise": cfg.collect.action_noise,
+    }
+
+
+def check_complete_shards(cfg: DataCfg, done: list[tuple[Combination, Path]]) -> None:
+    """A complete shard made with other settings would be skipped as if it held what this run asks for."""
+    mismatched = []
+    for combo, path in done:
+        header = read_header(path)
+        saved = {key: header[key] for key in ("requested", "seed", "action_noise")}
+        saved["teacher"] = "scripted" if header["teacher"] == "scripted" else "ppo"  # else a checkpoint path
+        wanted = episode_settings(cfg, combo)
+        if changes := changed_values(saved, wanted, tuple(wanted)):
+            mismatched.append(f"{path} ({'; '.join(changes)})")
+    if mismatched:
+        raise ConfigMismatchError(
+            f"{len(mismatched)} complete shard(s) in {cfg.raw_dir} were collected with other settings, e.g. "
+            f"{mismatched[0]}; choose another data_dir=... or delete them to collect anew"
+        )
 
 
 def collect_combination(cfg: DataCfg, combo: Combination, path: Path) -> str:
@@ -68,6 +99,8 @@ def collect(cfg: DataCfg) -> list[Path]:
     combos = shard_of(select_combinations(cfg.robot, cfg.subset), cfg.shard)
     paths = [Path(cfg.raw_dir) / shard_path(combo) for combo in combos]
     complete = [is_complete(path) for path in paths]
+    check_complete_shards(cfg, [(c, p) for c, p, done in zip(combos, paths, complete, strict=True) if done])
+    check_teachers_exist(cfg.teacher, [c for c, done in zip(combos, complete, strict=True) if not done])
     todo = complete.count(False)
     print(f"{len(combos)} combinations: {len(combos) - todo} complete, {todo} to collect", flush=True)
     progress = Progress(todo, "combinations")

@@ -160,6 +160,15 @@ def read_shard(path: Path) -> Shard:
         raise ShardError(f"{path}: unreadable ({type(err).__name__}: {err})") from err
 
 
+def read_header(path: Path) -> dict:
+    """A shard's attributes alone (what it was collected with), without its episodes."""
+    try:
+        with h5py.File(path, "r") as f:
+            return {k: _plain(v) for k, v in f.attrs.items()}
+    except OSError as err:
+        raise ShardError(f"{path}: unreadable ({type(err).__name__}: {err})") from err
+
+
 def is_complete(path: Path) -> bool:
     """True for a readable shard marked complete (collection skips those)."""
     try:

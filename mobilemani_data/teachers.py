@@ -8,7 +8,7 @@ from mobilemani_data.config import TeacherCfg
 from mobilemani_data.recorder import Policy
 from mobilemani_rl.envs.config import EnvCfg, TaskCfg
 from mobilemani_rl.envs.mobilemani_env import MobileManiEnv
-from mobilemani_rl.registry import check_choice
+from mobilemani_rl.registry import MissingFileError, check_choice
 from mobilemani_rl.scripted import ScriptedPolicy
 from mobilemani_rl.tasks import Combination, recording_env_cfg
 
@@ -36,6 +36,31 @@ def build_teacher(cfg: TeacherCfg, combo: Combination, env_base: EnvCfg, num_env
         env = MobileManiEnv(recording_env_cfg(env_base, task_of(combo), num_envs, seed))
         return Teacher(env, ScriptedPolicy(env), "scripted")
     return _ppo_teacher(cfg, combo, num_envs, seed)
+
+
+def check_teachers_exist(cfg: TeacherCfg, combos: list[Combination]) -> None:
+    """Look up every PPO teacher the combinations need before anything is collected: one error naming the
+    missing runs, instead of a stop midway through a long collection."""
+    if cfg.kind != "ppo":
+        return
+    from mobilemani_rl.teacher import find_teacher_checkpoint
+
+    tasks = sorted({(c.robot, c.object_id, c.skill) for c in combos})
+    missing = []
+    for robot, object_id, skill in tasks:
+        try:
+            find_teacher_checkpoint(cfg.runs_dir, robot, object_id, skill)
+        except MissingFileError:
+            missing.append(f"{object_id} {skill}")
+    if missing:
+        shown = ", ".join(missing[:4]) + (", ..." if len(missing) > 4 else "")
+        raise MissingFileError(
+            f"no PPO teacher in teacher.runs_dir={cfg.runs_dir} for {len(missing)} of {len(tasks)} "
+            f"object-skill tasks ({shown}): each needs a run <runs_dir>/<robot>/<object>/<skill> or its "
+            "category's <runs_dir>/<robot>/<category>/<skill>. `make teachers ROBOT=<robot>` trains every "
+            "category's into runs/teachers (then teacher.runs_dir=runs/teachers); or collect fewer "
+            "(subset.categories=[...], subset.skills=[...])"
+        )
 
 
 def _ppo_teacher(cfg: TeacherCfg, combo: Combination, num_envs: int, seed: int) -> Teacher:

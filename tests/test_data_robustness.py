@@ -16,6 +16,7 @@ from mobilemani_data.export import export
 from mobilemani_data.metadata import read_episodes, read_export_report
 from mobilemani_data.shards import PARTIAL_SUFFIX, read_shard, shard_paths
 from mobilemani_data.validate import validate
+from mobilemani_rl.registry import ConfigMismatchError, MissingFileError
 from mobilemani_rl.tasks import select_combinations
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -54,6 +55,30 @@ def test_killed_collection_reruns_to_exact_counts(tmp_path):
     assert all(len(read_shard(p).episodes) == 2 for p in paths)
     assert not list(raw.rglob(f"*{PARTIAL_SUFFIX}"))
     assert all(p.stat().st_mtime_ns == mtime for p, mtime in first.items())  # complete shards untouched
+
+
+def test_a_rerun_asking_for_other_episodes_stops_before_collecting(tmp_path):
+    """Complete shards are skipped on a rerun, so one made with another episode count, teacher, seed or action
+    noise would pass for what the rerun asks: the rerun names the shard and the change and writes nothing."""
+    one_skill = ["subset.objects=[dishwasher/0000]", "subset.skills=[open]"]
+    collect(tiny_cfg(tmp_path, *one_skill, "subset.episodes=1"))
+    written = {p: p.stat().st_mtime_ns for p in shard_paths(tmp_path / "raw", "g1")}
+    for change, message in (
+        ("subset.episodes=2", r"\(requested: 1 -> 2\)"),
+        ("collect.action_noise=0.3", r"\(action_noise: 0.0 -> 0.3\)"),
+        ("data/teacher=ppo", r"\(teacher: scripted -> ppo\)"),
+    ):
+        with pytest.raises(ConfigMismatchError, match=r"2 complete shard\(s\) .*" + message):
+            collect(tiny_cfg(tmp_path, *one_skill, "subset.episodes=1", change))
+    assert {p: p.stat().st_mtime_ns for p in shard_paths(tmp_path / "raw", "g1")} == written
+    assert not list((tmp_path / "raw").rglob(f"*{PARTIAL_SUFFIX}"))
+
+
+def test_missing_ppo_teachers_are_named_before_anything_is_written(tmp_path):
+    cfg = tiny_cfg(tmp_path, "data/teacher=ppo", f"teacher.runs_dir={tmp_path / 'runs'}")
+    with pytest.raises(MissingFileError, match=r"for 4 of 4 object-skill tasks \(cart/0000 pull, "):
+        collect(cfg)
+    assert not (tmp_path / "raw").exists()
 
 
 def test_corrupt_shard_is_named_and_the_rest_exports(tmp_path, capsys):
