@@ -47,7 +47,8 @@ def check_complete_shards(cfg: DataCfg, done: list[tuple[Combination, Path]]) ->
     mismatched = []
     for combo, path in done:
         header = read_header(path)
-        saved = {key: header[key] for key in ("requested", "seed", "action_noise")}
+        saved = {key: header[key] for key in ("requested", "seed")}
+        saved["action_noise"] = header.get("action_noise", 0.0)  # shards from before DART have none
         saved["teacher"] = "scripted" if header["teacher"] == "scripted" else "ppo"  # else a checkpoint path
         wanted = episode_settings(cfg, combo)
         if changes := changed_values(saved, wanted, tuple(wanted)):
