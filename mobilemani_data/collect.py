@@ -21,8 +21,8 @@ from mobilemani_data import schema
 from mobilemani_data.combos import shard_of, shard_path
 from mobilemani_data.config import DataCfg
 from mobilemani_data.recorder import collect_successes
-from mobilemani_data.shards import is_complete, read_header, write_shard
-from mobilemani_data.teachers import TeacherUnavailable, build_teacher, check_teachers_exist
+from mobilemani_data.shards import complete_header, write_shard
+from mobilemani_data.teachers import TeacherUnavailable, build_teacher, check_teachers_exist, kind_of
 from mobilemani_rl.cli import entry_point
 from mobilemani_rl.envs.config import with_env_task
 from mobilemani_rl.progress import Progress
@@ -42,14 +42,13 @@ def episode_settings(cfg: DataCfg, combo: Combination) -> dict:
     }
 
 
-def check_complete_shards(cfg: DataCfg, done: list[tuple[Combination, Path]]) -> None:
+def check_complete_shards(cfg: DataCfg, done: list[tuple[Combination, Path, dict]]) -> None:
     """A complete shard made with other settings would be skipped as if it held what this run asks for."""
     mismatched = []
-    for combo, path in done:
-        header = read_header(path)
+    for combo, path, header in done:
         saved = {key: header[key] for key in ("requested", "seed")}
         saved["action_noise"] = header.get("action_noise", 0.0)  # shards from before DART have none
-        saved["teacher"] = "scripted" if header["teacher"] == "scripted" else "ppo"  # else a checkpoint path
+        saved["teacher"] = kind_of(header["teacher"])
         wanted = episode_settings(cfg, combo)
         if changes := changed_values(saved, wanted, tuple(wanted)):
             mismatched.append(f"{path} ({'; '.join(changes)})")
@@ -99,9 +98,10 @@ def collect_combination(cfg: DataCfg, combo: Combination, path: Path) -> str:
 def collect(cfg: DataCfg) -> list[Path]:
     combos = shard_of(select_combinations(cfg.robot, cfg.subset), cfg.shard)
     paths = [Path(cfg.raw_dir) / shard_path(combo) for combo in combos]
-    complete = [is_complete(path) for path in paths]
-    check_complete_shards(cfg, [(c, p) for c, p, done in zip(combos, paths, complete, strict=True) if done])
-    check_teachers_exist(cfg.teacher, [c for c, done in zip(combos, complete, strict=True) if not done])
+    headers = [complete_header(path) for path in paths]
+    complete = [header is not None for header in headers]
+    check_complete_shards(cfg, [(c, p, h) for c, p, h in zip(combos, paths, headers, strict=True) if h])
+    check_teachers_exist(cfg.teacher, [c for c, h in zip(combos, headers, strict=True) if h is None])
     todo = complete.count(False)
     print(f"{len(combos)} combinations: {len(combos) - todo} complete, {todo} to collect", flush=True)
     progress = Progress(todo, "combinations")

@@ -119,9 +119,13 @@ def write_shard(path: Path, header: dict, episodes: list[Episode], compression: 
     os.replace(tmp, path)
 
 
+def _attrs(f: h5py.File) -> dict:
+    return {k: _plain(v) for k, v in f.attrs.items()}
+
+
 def _read(path: Path) -> Shard:
     with h5py.File(path, "r") as f:
-        header = {k: _plain(v) for k, v in f.attrs.items()}
+        header = _attrs(f)
         missing = [k for k in HEADER_KEYS if k not in header]
         if missing:
             raise ShardError(f"{path}: missing attributes {missing}")
@@ -160,22 +164,16 @@ def read_shard(path: Path) -> Shard:
         raise ShardError(f"{path}: unreadable ({type(err).__name__}: {err})") from err
 
 
-def read_header(path: Path) -> dict:
-    """A shard's attributes alone (what it was collected with), without its episodes."""
+def complete_header(path: Path) -> dict | None:
+    """The attributes (what it was collected with) of a readable shard marked complete, without its
+    episodes; None for a missing, unreadable, unfinished or other-format file (collection redoes those)."""
     try:
         with h5py.File(path, "r") as f:
-            return {k: _plain(v) for k, v in f.attrs.items()}
-    except OSError as err:
-        raise ShardError(f"{path}: unreadable ({type(err).__name__}: {err})") from err
-
-
-def is_complete(path: Path) -> bool:
-    """True for a readable shard marked complete (collection skips those)."""
-    try:
-        with h5py.File(path, "r") as f:
-            return bool(f.attrs.get("complete", False)) and f.attrs.get("format_version") == FORMAT_VERSION
+            header = _attrs(f)
     except OSError:
-        return False
+        return None
+    complete = header.get("complete", False) and header.get("format_version") == FORMAT_VERSION
+    return header if complete else None
 
 
 def shard_paths(raw_dir: Path, robot: str) -> list[Path]:

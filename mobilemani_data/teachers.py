@@ -26,6 +26,11 @@ class Teacher:
     name: str  # "scripted" or the checkpoint path
 
 
+def kind_of(name: str) -> str:
+    """The kind of teacher a shard header's `teacher` name stands for."""
+    return "scripted" if name == "scripted" else "ppo"
+
+
 def task_of(combo: Combination) -> TaskCfg:
     return TaskCfg(robot=combo.robot, object=combo.object_id, skill=combo.skill, scene=combo.scene)
 
