@@ -116,6 +116,15 @@ class MobileManiRunner(OnPolicyRunner):
         if self.alg.use_mixed_precision:
             keep_output_layer_fp32(self.alg.actor)
             keep_output_layer_fp32(self.alg.critic)
+            act = self.alg.act
+
+            def bf16_act(*args, **kwargs):
+                # the collection's forward passes in the update's precision: the stored log-probabilities and
+                # values are those the update recomputes (PPO's ratio starts at 1), and inference is faster
+                with torch.autocast("cpu", dtype=torch.bfloat16):
+                    return act(*args, **kwargs)
+
+            self.alg.act = bf16_act
         self.logger = ProgressLogger(
             log_dir=log_dir,
             cfg=self.cfg,
