@@ -38,6 +38,21 @@ def lookup[T](table: Mapping[str, T], name: str, kind: str) -> T:
     return table[check_choice(name, table, kind)]
 
 
+def check_torch_device(value: str, key: str) -> str:
+    """`cpu`, `cuda` or `cuda:<index>` of a GPU this machine has."""
+    import torch  # here: most users of these lookups never need torch, which takes seconds to import
+
+    kind, _, index = value.partition(":")
+    if kind == "cpu" and not index:
+        return value
+    if kind != "cuda" or (index and not index.isdigit()):
+        raise InputError(f"{key}={value!r}: valid devices are cpu, cuda and cuda:<index>")
+    count = torch.cuda.device_count()
+    if int(index or 0) >= count:
+        raise InputError(f"{key}={value}: this machine has {count} CUDA device(s); use {key}=cpu")
+    return value
+
+
 def check_positive(counts: Mapping[str, int | None]) -> None:
     """Counts named by their config keys (None: unset) must be >= 1; stops with every offending key."""
     bad = {key: value for key, value in counts.items() if value is not None and value < 1}

@@ -66,11 +66,15 @@ def load_teacher(
 ) -> tuple[BatchedEnv, torch.nn.Module]:
     """The teacher's env and deterministic actor. The actor acts in `env` when given, else in a new env built
     from `cfg` (default: the run's own config) with `num_envs` envs; the teacher was trained with that
-    config's physics and action scales."""
+    config's physics and action scales. It runs on the CPU beside MuJoCo, wherever it was trained."""
     if not checkpoint.is_file():
         raise MissingFileError(f"teacher checkpoint {checkpoint} does not exist")
     runner = build_runner(
-        cfg if cfg is not None else run_config(checkpoint), run_dir=None, num_envs=num_envs, env=env
+        cfg if cfg is not None else run_config(checkpoint),
+        run_dir=None,
+        num_envs=num_envs,
+        env=env,
+        device="cpu",
     )
     runner.load(str(checkpoint))
     return runner.env.env, runner.get_inference_policy()

@@ -3,6 +3,7 @@
 from pathlib import Path
 
 import pytest
+import torch
 from data_helpers import tiny_cfg
 from lerobot.datasets.dataset_metadata import LeRobotDatasetMetadata
 from omegaconf import OmegaConf
@@ -116,6 +117,8 @@ def test_entry_points_end_bad_input_with_one_line_and_keep_tracebacks_for_bugs(t
             "rl.ppo.precision=fp16",
             "unknown rl.ppo.precision 'fp16'; valid rl.ppo.precisions: auto, bf16, fp32",
         ),
+        ("rl.ppo.device=tpu", "rl.ppo.device='tpu': valid devices are cpu, cuda and cuda:<index>"),
+        (f"rl.ppo.device=cuda:{torch.cuda.device_count()}", "CUDA device\\(s\\); use rl.ppo.device=cpu"),
         ("env.num_envs=4", r"env.num_envs=4 \(set it through rl.ppo.num_envs\)"),
         ("env.seed=4", r"env.seed=4 \(set it through rl.ppo.seed\)"),
     ],

@@ -173,9 +173,9 @@ def test_update_runs_with_its_own_thread_count(monkeypatch):
 
 @pytest.mark.parametrize("precision", ["fp32", "bf16"])
 def test_precision_sets_the_update_dtype(precision):
-    """`rl.ppo.precision=bf16` runs the update's hidden layers in bf16 (bf16 matmuls are ~4x faster than
-    fp32 on AVX512-BF16 cores) and keeps the output layers (values, action means) in fp32; collection's
-    inference stays fp32; the update stays finite."""
+    """`rl.ppo.precision=bf16` runs the hidden layers in bf16 (bf16 matmuls are ~4x faster than fp32 on
+    AVX512-BF16 cores), in the update and in collection's inference alike, and keeps the output layers
+    (values, action means) in fp32; the update stays finite."""
     from mobilemani_rl.rl.factory import build_runner
 
     runner = build_runner(compose_rl(["rl/ppo=tiny", f"rl.ppo.precision={precision}"]), run_dir=None)
@@ -193,9 +193,9 @@ def test_precision_sets_the_update_dtype(precision):
     losses: list[dict] = []
     runner.alg.update = lambda: losses.append(update()) or losses[-1]
     runner.learn(num_learning_iterations=1)
-    assert seen[("hidden", False)] == seen[("output", False)] == {torch.float32}
-    assert seen[("hidden", True)] == {torch.bfloat16 if precision == "bf16" else torch.float32}
-    assert seen[("output", True)] == {torch.float32}
+    hidden = {torch.bfloat16 if precision == "bf16" else torch.float32}
+    assert seen[("hidden", False)] == seen[("hidden", True)] == hidden
+    assert seen[("output", False)] == seen[("output", True)] == {torch.float32}
     assert losses and all(np.isfinite(v) for v in losses[0].values() if v is not None)
 
 
@@ -211,3 +211,17 @@ def test_auto_precision_is_bf16_only_where_the_cpu_multiplies_bf16_natively(
     monkeypatch.setattr(torch.cpu, "_is_amx_tile_supported", lambda: amx)
     assert update_precision(PpoCfg(precision="auto")) == chosen
     assert update_precision(PpoCfg(precision="fp32")) == "fp32"
+
+
+@pytest.mark.parametrize("device", ["cpu"] + (["cuda"] if torch.cuda.is_available() else []))
+def test_ppo_trains_on_its_device_and_the_teacher_evaluates_on_the_cpu(tmp_path, device):
+    """`rl.ppo.device` holds PPO's networks (the warm start, collection's inference and the update) while the
+    env stays on the CPU; a teacher trained on any device loads on the CPU, beside MuJoCo, to evaluate."""
+    run_dir = tmp_path / "run"
+    overrides = ["rl/ppo=tiny", f"run_dir={run_dir}", f"rl.ppo.device={device}"]
+    train(compose_rl([*overrides, "rl.ppo.warm_start.episodes=8", "rl.ppo.warm_start.epochs=2"]))
+    checkpoint = latest_checkpoint(run_dir)
+    saved = torch.load(checkpoint, weights_only=True)["actor_state_dict"]
+    assert {t.device.type for t in saved.values()} == {torch.device(device).type}
+    result = evaluate(checkpoint, episodes=4, seed=3)
+    assert result["objects"]["test/box"]["episodes"] == 4

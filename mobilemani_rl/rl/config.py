@@ -8,7 +8,7 @@ import copy
 from dataclasses import dataclass, field, fields
 
 from mobilemani_rl.envs.config import EnvCfg, EnvParamsCfg, TaskCfg, check_env_not_set
-from mobilemani_rl.registry import InputError, check_choice, check_positive
+from mobilemani_rl.registry import InputError, check_choice, check_positive, check_torch_device
 from mobilemani_rl.schema import register_schema
 
 LOGGERS = ("tensorboard", "wandb")
@@ -70,6 +70,8 @@ class PpoCfg:
     # The update's forward passes: bf16 autocast (rsl-rl's use_mixed_precision, output layers kept in fp32),
     # fp32 (reference), or auto: bf16 where the CPU multiplies bf16 natively (AVX512-BF16 or AMX), else fp32
     precision: str = "fp32"
+    # where PPO's networks run: cpu, cuda or cuda:<index>; MuJoCo and the env's numpy stay on the CPU
+    device: str = "cpu"
     warm_start: WarmStartCfg = field(default_factory=WarmStartCfg)
 
 
@@ -118,6 +120,7 @@ class RLCfg:
         check_choice(self.logger, LOGGERS, "logger")
         check_choice(ppo.schedule, SCHEDULES, "rl.ppo.schedule")
         check_choice(ppo.precision, PRECISIONS, "rl.ppo.precision")
+        check_torch_device(ppo.device, "rl.ppo.device")
         try:
             resolve_nn_activation(ppo.activation)
         except ValueError as err:
@@ -164,7 +167,10 @@ def update_precision(ppo: PpoCfg) -> str:
         return ppo.precision
     import torch
 
-    native = torch.cpu._is_avx512_bf16_supported() or torch.cpu._is_amx_tile_supported()
+    if ppo.device.startswith("cuda"):
+        native = torch.cuda.is_bf16_supported(including_emulation=False)
+    else:
+        native = torch.cpu._is_avx512_bf16_supported() or torch.cpu._is_amx_tile_supported()
     return "bf16" if native else "fp32"
 
 

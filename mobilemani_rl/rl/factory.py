@@ -35,9 +35,10 @@ def build_runner(
     run_dir: Path | None,
     num_envs: int | None = None,
     env: BatchedEnv | None = None,
+    device: str | None = None,
 ) -> MobileManiRunner:
     """Env + rsl-rl runner for a composed config or a run's saved one (run_dir None: no logging, e.g. for
-    evaluation)."""
+    evaluation; device None: the config's rl.ppo.device)."""
     run = to_dataclass(cfg, RLCfg)
     ppo = run.rl.ppo
     if ppo.torch_threads:
@@ -48,7 +49,8 @@ def build_runner(
         env_cfg.num_envs, env_cfg.seed = num_envs or ppo.num_envs, ppo.seed
         env = make_env(env_cfg, run.objects_per_policy)
     env_cfg = env.cfg
-    env = RslRlVecEnv(env)
+    device = device or ppo.device
+    env = RslRlVecEnv(env, device)
     logger = (
         run.logger
         if run.logger == "tensorboard"
@@ -62,4 +64,5 @@ def build_runner(
         None if run_dir is None else str(run_dir),
         ppo.max_iterations,
         update_threads=ppo.update_threads,
+        device=device,
     )

@@ -7,7 +7,7 @@ import contextlib
 import io
 import json
 import os
-from collections.abc import Iterator
+from collections.abc import Callable, Iterator
 from pathlib import Path
 
 import numpy as np
@@ -48,6 +48,16 @@ def keep_output_layer_fp32(model: torch.nn.Module) -> None:
             return F.linear(x.float(), layer.weight, layer.bias)
 
     layer.forward = forward
+
+
+def in_bf16(function: Callable, device: str) -> Callable:
+    """`function` run under bf16 autocast on `device`."""
+
+    def wrapped(*args, **kwargs):
+        with torch.autocast(torch.device(device).type, dtype=torch.bfloat16):
+            return function(*args, **kwargs)
+
+    return wrapped
 
 
 class ProgressLogger(Logger):
@@ -102,9 +112,10 @@ class MobileManiRunner(OnPolicyRunner):
         log_dir: str | None,
         total_iterations: int,
         update_threads: int = 0,
+        device: str = "cpu",
     ) -> None:
         with contextlib.redirect_stdout(io.StringIO()):  # model summaries
-            super().__init__(env, train_cfg, log_dir=log_dir, device="cpu")
+            super().__init__(env, train_cfg, log_dir=log_dir, device=device)
         update = self.alg.update
 
         def threaded_update(*args, **kwargs):
@@ -116,15 +127,11 @@ class MobileManiRunner(OnPolicyRunner):
         if self.alg.use_mixed_precision:
             keep_output_layer_fp32(self.alg.actor)
             keep_output_layer_fp32(self.alg.critic)
-            act = self.alg.act
-
-            def bf16_act(*args, **kwargs):
-                # the collection's forward passes in the update's precision: the stored log-probabilities and
-                # values are those the update recomputes (PPO's ratio starts at 1), and inference is faster
-                with torch.autocast("cpu", dtype=torch.bfloat16):
-                    return act(*args, **kwargs)
-
-            self.alg.act = bf16_act
+            # collection's forward passes (actions, values, the last value GAE bootstraps from) in the
+            # update's precision: the update recomputes the same log-probabilities (PPO's ratio starts at 1),
+            # and inference is faster
+            for name in ("act", "compute_returns"):
+                setattr(self.alg, name, in_bf16(getattr(self.alg, name), device))
         self.logger = ProgressLogger(
             log_dir=log_dir,
             cfg=self.cfg,
@@ -133,7 +140,7 @@ class MobileManiRunner(OnPolicyRunner):
             is_distributed=False,
             gpu_world_size=1,
             gpu_global_rank=0,
-            device="cpu",
+            device=device,
             total_iterations=total_iterations,
         )
         self.curve_path = Path(log_dir) / CURVE if log_dir else None
@@ -142,9 +149,10 @@ class MobileManiRunner(OnPolicyRunner):
         self, path: str, load_cfg: dict | None = None, strict: bool = True, map_location: str | None = None
     ) -> dict:
         """rsl-rl's load with `weights_only=True` (rsl-rl itself unpickles anything, so a crafted checkpoint
-        would run code); a file that is not a readable checkpoint stops with its path."""
+        would run code); a file that is not a readable checkpoint stops with its path. Tensors land on the
+        runner's device, whichever device saved them."""
         try:
-            loaded = torch.load(path, weights_only=True, map_location=map_location)
+            loaded = torch.load(path, weights_only=True, map_location=map_location or self.device)
         except Exception as err:  # pickle, zip or safety errors all mean: not a checkpoint we can trust
             # the first line: torch's weights_only refusal goes on for a page of advice
             reason = str(err).strip().splitlines()[0] if str(err).strip() else ""

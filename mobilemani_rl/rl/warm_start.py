@@ -117,8 +117,9 @@ def fit(
     model: torch.nn.Module, inputs: np.ndarray, targets: np.ndarray, cfg: WarmStartCfg, name: str
 ) -> list[float]:
     """Mean-squared-error regression of the model's (deterministic) output; returns the loss of each epoch."""
-    x = torch.from_numpy(inputs).float()
-    y = torch.from_numpy(targets).float().reshape(len(targets), -1)
+    device = next(model.parameters()).device
+    x = torch.from_numpy(inputs).float().to(device)
+    y = torch.from_numpy(targets).float().reshape(len(targets), -1).to(device)
     optimizer = torch.optim.Adam(model.parameters(), lr=cfg.learning_rate)
     generator = torch.Generator().manual_seed(cfg.seed)
     losses = []
@@ -154,7 +155,10 @@ def warm_start(
     The env is left reset, so that training starts from fresh episodes.
     """
     demos = collect(env, cfg.episodes, cfg.action_noise, cfg.seed, gamma)
-    obs = TensorDict({"policy": torch.from_numpy(demos.obs).float()}, batch_size=[len(demos.obs)])
+    device = next(actor.parameters()).device
+    obs = TensorDict(
+        {"policy": torch.from_numpy(demos.obs).float()}, batch_size=[len(demos.obs)], device=device
+    )
     for model in (actor, critic):  # the normalisers start from the scripted states, as PPO's policy would see
         model.train()
         model.update_normalization(obs)
