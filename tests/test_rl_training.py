@@ -179,6 +179,7 @@ def test_precision_sets_the_update_dtype(precision):
     from mobilemani_rl.rl.factory import build_runner
 
     runner = build_runner(compose_rl(["rl/ppo=tiny", f"rl.ppo.precision={precision}"]), run_dir=None)
+    assert runner.alg.optimizer.defaults["fused"]
     # (layer, grad enabled: in the update) -> the dtypes the layer output
     seen: dict[tuple[str, bool], set[torch.dtype]] = {}
     for model in (runner.alg.actor, runner.alg.critic):
