@@ -42,10 +42,10 @@ def check_torch_device(value: str, key: str) -> str:
     """`cpu`, `cuda` or `cuda:<index>` of a GPU this machine has."""
     import torch  # here: most users of these lookups never need torch, which takes seconds to import
 
-    kind, _, index = value.partition(":")
-    if kind == "cpu" and not index:
+    if value == "cpu":
         return value
-    if kind != "cuda" or (index and not index.isdigit()):
+    kind, colon, index = value.partition(":")
+    if kind != "cuda" or (colon and not index.isdigit()):
         raise InputError(f"{key}={value!r}: valid devices are cpu, cuda and cuda:<index>")
     count = torch.cuda.device_count()
     if int(index or 0) >= count:
