@@ -67,8 +67,9 @@ class PpoCfg:
     torch_threads: int = 0  # threads while collecting (policy inference beside MuJoCo); 0: torch's default
     # threads for the network updates (PPO epochs, warm-start fitting), MuJoCo idle; 0: torch's default
     update_threads: int = 0
-    # The update's forward passes: bf16 autocast (rsl-rl's use_mixed_precision, output layers kept in fp32),
-    # fp32 (reference), or auto: bf16 where the CPU multiplies bf16 natively (AVX512-BF16 or AMX), else fp32
+    # PPO's forward passes, in the update and in collection: bf16 autocast (rsl-rl's use_mixed_precision,
+    # output layers kept in fp32), fp32 (reference), or auto: bf16 where the CPU multiplies bf16 natively
+    # (AVX512-BF16 or AMX), else fp32
     precision: str = "fp32"
     # where PPO's networks run: cpu, cuda or cuda:<index>; MuJoCo and the env's numpy stay on the CPU
     device: str = "cpu"
