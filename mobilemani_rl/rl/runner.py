@@ -4,6 +4,7 @@ block."""
 from __future__ import annotations
 
 import contextlib
+import functools
 import io
 import json
 import os
@@ -50,11 +51,11 @@ def keep_output_layer_fp32(model: torch.nn.Module) -> None:
     layer.forward = forward
 
 
-def in_bf16(function: Callable, device: str) -> Callable:
-    """`function` run under bf16 autocast on `device`."""
+def inside(function: Callable, context: Callable[[], contextlib.AbstractContextManager]) -> Callable:
+    """`function`, each call run inside a fresh `context()`."""
 
     def wrapped(*args, **kwargs):
-        with torch.autocast(torch.device(device).type, dtype=torch.bfloat16):
+        with context():
             return function(*args, **kwargs)
 
     return wrapped
@@ -125,22 +126,17 @@ class MobileManiRunner(OnPolicyRunner):
         with contextlib.redirect_stdout(io.StringIO()):  # model summaries
             super().__init__(env, train_cfg, log_dir=log_dir, device=device)
         self.alg.optimizer = with_fused_step(self.alg.optimizer)
-        update = self.alg.update
-
-        def threaded_update(*args, **kwargs):
-            # collection keeps few torch threads so MuJoCo has the cores; the update has them to itself
-            with torch_threads(update_threads):
-                return update(*args, **kwargs)
-
-        self.alg.update = threaded_update
+        # collection keeps few torch threads so MuJoCo has the cores; the update has them to itself
+        self.alg.update = inside(self.alg.update, lambda: torch_threads(update_threads))
         if self.alg.use_mixed_precision:
             keep_output_layer_fp32(self.alg.actor)
             keep_output_layer_fp32(self.alg.critic)
             # collection's forward passes (actions, values, the last value GAE bootstraps from) in the
             # update's precision: the update recomputes the same log-probabilities (PPO's ratio starts at 1),
             # and inference is faster
+            bf16 = functools.partial(torch.autocast, torch.device(device).type, dtype=torch.bfloat16)
             for name in ("act", "compute_returns"):
-                setattr(self.alg, name, in_bf16(getattr(self.alg, name), device))
+                setattr(self.alg, name, inside(getattr(self.alg, name), bf16))
         self.logger = ProgressLogger(
             log_dir=log_dir,
             cfg=self.cfg,
