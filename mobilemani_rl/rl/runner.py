@@ -4,11 +4,10 @@ block."""
 from __future__ import annotations
 
 import contextlib
-import functools
 import io
 import json
 import os
-from collections.abc import Callable, Iterator
+from collections.abc import Iterator
 from pathlib import Path
 
 import numpy as np
@@ -49,16 +48,6 @@ def keep_output_layer_fp32(model: torch.nn.Module) -> None:
             return F.linear(x.float(), layer.weight, layer.bias)
 
     layer.forward = forward
-
-
-def inside(function: Callable, context: Callable[[], contextlib.AbstractContextManager]) -> Callable:
-    """`function`, each call run inside a fresh `context()`."""
-
-    def wrapped(*args, **kwargs):
-        with context():
-            return function(*args, **kwargs)
-
-    return wrapped
 
 
 def with_fused_step(optimizer: torch.optim.Optimizer) -> torch.optim.Optimizer:
@@ -127,16 +116,16 @@ class MobileManiRunner(OnPolicyRunner):
             super().__init__(env, train_cfg, log_dir=log_dir, device=device)
         self.alg.optimizer = with_fused_step(self.alg.optimizer)
         # collection keeps few torch threads so MuJoCo has the cores; the update has them to itself
-        self.alg.update = inside(self.alg.update, lambda: torch_threads(update_threads))
+        self.alg.update = torch_threads(update_threads)(self.alg.update)  # a contextmanager decorates
         if self.alg.use_mixed_precision:
             keep_output_layer_fp32(self.alg.actor)
             keep_output_layer_fp32(self.alg.critic)
             # collection's forward passes (actions, values, the last value GAE bootstraps from) in the
             # update's precision: the update recomputes the same log-probabilities (PPO's ratio starts at 1),
             # and inference is faster
-            bf16 = functools.partial(torch.autocast, torch.device(device).type, dtype=torch.bfloat16)
             for name in ("act", "compute_returns"):
-                setattr(self.alg, name, inside(getattr(self.alg, name), bf16))
+                bf16 = torch.autocast(torch.device(device).type, dtype=torch.bfloat16)
+                setattr(self.alg, name, bf16(getattr(self.alg, name)))
         self.logger = ProgressLogger(
             log_dir=log_dir,
             cfg=self.cfg,
