@@ -200,6 +200,29 @@ def test_precision_sets_the_update_dtype(precision):
     assert losses and all(np.isfinite(v) for v in losses[0].values() if v is not None)
 
 
+def test_hidden_activations_run_in_place_and_keep_the_gradient():
+    """The ELUs overwrite the linear outputs (no backward reads those) and differentiate from their own
+    output: the fp32 gradient is the one out-of-place ELUs give, up to rounding."""
+    from mobilemani_rl.rl.factory import build_runner
+
+    runner = build_runner(compose_rl(["rl/ppo=tiny", "rl.ppo.precision=fp32"]), run_dir=None)
+    obs = runner.env.get_observations()
+
+    def gradient(model: torch.nn.Module) -> torch.Tensor:
+        model.zero_grad()
+        model(obs).square().sum().backward()
+        return torch.cat([p.grad.flatten() for p in model.parameters() if p.grad is not None])
+
+    for model in (runner.alg.actor, runner.alg.critic):
+        elus = [m for m in model.modules() if isinstance(m, torch.nn.ELU)]
+        assert elus and all(m.inplace for m in elus)
+        in_place = gradient(model)
+        for m in elus:
+            m.inplace = False
+        assert in_place.abs().sum() > 0
+        torch.testing.assert_close(in_place, gradient(model), rtol=1e-5, atol=1e-7)
+
+
 @pytest.mark.parametrize(
     ("avx512_bf16", "amx", "chosen"), [(True, False, "bf16"), (False, True, "bf16"), (False, False, "fp32")]
 )
