@@ -178,7 +178,7 @@ lerobot: setup
 	$(MAKE) eval ROBOT=$(ROBOT) POLICY=lerobot NAME=lerobot_$(LEROBOT_POLICY) \
 		CHECKPOINT=$(LEROBOT_LAST)/pretrained_model
 
-# The whole chain at small scale, 21.5 min after `make setup` on the faster of our 2-core machines
+# The whole chain at small scale, 21.5-24 min after `make setup` on our 2-core machines
 # (docs/results/demo/rgb_batch16.md; PyTorch runs at half that speed on the slower one, short_schedules.md):
 # a PPO teacher for g1 opening test/box, 160 episodes from it in the 16 train rooms (executed with action noise,
 # DART; each room repainted per episode, 64 px, H.264), the CPU recipe's VLA on the two RGB cameras
@@ -188,6 +188,8 @@ lerobot: setup
 # the recipe's 95% needs repainted rooms and ~9000 steps (docs/results/vla_cpu_recipe.md), and two RGB streams
 # at batch 16 run 9000 steps in the time that four streams at batch 32 run 3000 (40% in
 # docs/results/demo/scale_and_inputs.md).
+# The VLA's success depends on which teacher PPO draws (18-67% over 60 episodes for five teachers,
+# docs/results/demo/teacher_draws.md).
 # Every stage resumes or skips finished work, so a rerun after an interruption continues.
 DEMO ?= runs/demo
 DEMO_PPO_ITERATIONS ?= 100
