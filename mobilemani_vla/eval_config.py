@@ -47,6 +47,9 @@ class EvalCfg:
     # else DEFAULT_IMAGE_SIZE.
     image_size: list[int] | None = None
     video_episodes: int = 0  # head-camera MP4s of the first k episodes of each combination
+    # Processes running blocks side by side (mobilemani_vla.block_pool), each with its own policy and an equal
+    # share of the CPU's threads; results do not depend on it, so a rerun may change it.
+    workers: int = 1
     env: EnvCfg = field(default_factory=EnvCfg)
 
     @property
@@ -67,6 +70,7 @@ class EvalCfg:
             {
                 "subset.episodes": self.subset.episodes,
                 "episodes_per_batch": self.episodes_per_batch,
+                "workers": self.workers,
                 "subset.scenes_per_object": self.subset.scenes_per_object,
                 "subset.objects_per_category": self.subset.objects_per_category,
             }

@@ -8,18 +8,18 @@ Protocol: every (object, skill, scene) combination of the selected object split 
 objects x test scenes), `subset.episodes` episodes each (10), 300 control steps, success when the grasp point
 comes within 5 cm of the goal. Episodes of a combination run as env batches of `episodes_per_batch` (at most
 `subset.episodes`); each batch's env seed comes from (seed, robot, object, skill, scene, block), so episode e
-of a combination is always the same start state. The total is printed up front, and every batch's line ends
-with the episodes done so far and an ETA. Results: <output_dir>/<robot>/<name>/<split>.jsonl
-(one record per episode, resumable), a summary JSON next to it (per skill, per category), and head-camera MP4s
-of the first `video_episodes` episodes.
+of a combination is always the same start state, whichever of the `workers` processes runs it. The total is
+printed up front, and every batch's line ends with the episodes done so far and an ETA. Results:
+<output_dir>/<robot>/<name>/<split>.jsonl (one record per episode, resumable), a summary JSON next to it (per
+skill, per category), and head-camera MP4s of the first `video_episodes` episodes.
 """
 
 from __future__ import annotations
 
 import json
-import time
 import zlib
-from collections.abc import Callable
+from collections.abc import Callable, Iterator
+from functools import partial
 from pathlib import Path
 
 import hydra
@@ -36,6 +36,7 @@ from mobilemani_rl.rollout import EpisodeStats
 from mobilemani_rl.schema import changed_values, to_dataclass
 from mobilemani_rl.tasks import Combination, recording_env_cfg, select_combinations
 from mobilemani_rl.video import HeadCameraRecorder
+from mobilemani_vla.block_pool import Block, run_blocks_in_pool
 from mobilemani_vla.eval_config import DEFAULT_IMAGE_SIZE, EvalCfg
 from mobilemani_vla.harness import run_batch
 from mobilemani_vla.policies.base import EvalPolicy
@@ -141,6 +142,15 @@ def check_same_settings(out: Path, settings: dict) -> None:
         )
 
 
+def run_blocks(cfg: EvalCfg, policy: EvalPolicy, blocks: list[Block]) -> Iterator[tuple[Block, list[dict]]]:
+    """Each block with its records as it finishes: here, or over `cfg.workers` processes."""
+    if cfg.workers == 1:
+        for k, combo, block in blocks:
+            yield (k, combo, block), evaluate_block(cfg, policy, combo, block)
+        return
+    yield from run_blocks_in_pool(evaluate_block, cfg, partial(build_policy, cfg.policy), blocks, cfg.workers)
+
+
 def evaluate(cfg: EvalCfg, policy: EvalPolicy | None = None) -> dict:
     """Run every missing episode of the selected protocol; returns the summary of the results file."""
     size = cfg.batch_size
@@ -153,6 +163,11 @@ def evaluate(cfg: EvalCfg, policy: EvalPolicy | None = None) -> dict:
     out = run_dir(cfg)
     settings = OmegaConf.to_container(OmegaConf.structured(cfg))
     check_same_settings(out, settings)
+    if policy is not None and cfg.workers > 1:
+        raise InputError(
+            f"workers={cfg.workers}: each worker builds its policy from the policy config; "
+            "a policy object passed to evaluate() runs in this process (workers=1)"
+        )
     policy = policy or build_policy(cfg.policy)
     expected = get_robot(cfg.robot).action_dim
     if policy.action_dim not in (None, expected):
@@ -179,14 +194,12 @@ def evaluate(cfg: EvalCfg, policy: EvalPolicy | None = None) -> dict:
         flush=True,
     )
     progress = Progress(len(todo) * size, "episodes")
-    for k, combo, block in todo:
-        start = time.perf_counter()
-        records = evaluate_block(cfg, policy, combo, block)
+    for (k, combo, block), records in run_blocks(cfg, policy, todo):
         results.append(records)
         rate = sum(r["success"] for r in records) / len(records)
         print(
-            f"[{k + 1}/{len(combos)}] {combo.name} block {block}: success {rate:.2f} "
-            f"({time.perf_counter() - start:.1f} s) | {progress.advance(size)}",
+            f"[{k + 1}/{len(combos)}] {combo.name} block {block}: success {rate:.2f} | "
+            f"{progress.advance(size)}",
             flush=True,
         )
     summary = summarize(read_records(results.path))

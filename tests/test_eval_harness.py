@@ -13,7 +13,7 @@ from mobilemani_rl.base_frame import action_to_base
 from mobilemani_rl.envs.config import EnvCfg, TaskCfg, with_env_task
 from mobilemani_rl.envs.mobilemani_env import MobileManiEnv
 from mobilemani_rl.eval import evaluate as evaluate_teacher
-from mobilemani_rl.registry import ConfigMismatchError
+from mobilemani_rl.registry import ConfigMismatchError, InputError
 from mobilemani_rl.rl.config import RLCfg
 from mobilemani_rl.rl.run_dir import CONFIG, latest_checkpoint
 from mobilemani_rl.rollout import run_first_episodes
@@ -265,3 +265,21 @@ def test_tiny_vla_runs_the_protocol_end_to_end(tmp_path):
     with pytest.raises(ValueError, match="7-d actions but robot=xhand takes 18-d"):
         evaluate(xhand)
     assert not (tmp_path / "xhand").exists()
+
+
+def test_workers_run_blocks_in_parallel_with_the_same_episodes(tmp_path, capsys):
+    """Blocks spread over two worker processes give the records of one process, episode by episode."""
+    runs = {}
+    for workers in (1, 2):
+        cfg = eval_cfg(
+            tmp_path / str(workers),
+            ["eval/policy=random", "name=random", "subset.episodes=4", f"workers={workers}"],
+        )
+        evaluate(cfg)
+        records = read_records(tmp_path / str(workers) / "g1" / "random" / "test_objects_test_scenes.jsonl")
+        runs[workers] = sorted(records, key=lambda r: r["episode"])
+    assert [r["episode"] for r in runs[2]] == [0, 1, 2, 3]
+    assert runs[2] == runs[1]
+    assert "| 4/4 episodes, " in capsys.readouterr().out
+    with pytest.raises(InputError, match="workers=2"):
+        evaluate(cfg, RandomPolicy())
