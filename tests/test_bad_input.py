@@ -32,8 +32,8 @@ def test_non_positive_evaluation_counts_name_their_keys():
 
     conf = str(Path(__file__).resolve().parents[1] / "conf")
     with initialize_config_dir(config_dir=conf, version_base="1.3"):
-        cfg = compose(config_name="eval", overrides=["episodes_per_batch=0"])
-    with pytest.raises(ValueError, match="episodes_per_batch=0"):
+        cfg = compose(config_name="eval", overrides=["episodes_per_batch=0", "workers=0"])
+    with pytest.raises(ValueError, match="episodes_per_batch=0, workers=0"):
         to_dataclass(with_env_task(cfg), EvalCfg).check_counts()
 
 
