@@ -99,8 +99,13 @@ def test_lerobot_diffusion_policy_gets_one_step_observation_windows(tmp_path):
         "task": ["open box"] * 2,
         "active": np.array([True, True]),
     }
+    policy.start(None, seed=5)
     chunks = policy.act(obs)
     assert chunks.shape == (2, 8, 7) and np.all(np.isfinite(chunks))
+    # Its noise comes from torch's global generator, which start() seeds: one batch seed, the same chunks.
+    assert not np.allclose(policy.act(obs), chunks)
+    policy.start(None, seed=5)
+    np.testing.assert_array_equal(policy.act(obs), chunks)
 
 
 @pytest.fixture(scope="module")

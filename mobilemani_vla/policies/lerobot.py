@@ -22,6 +22,7 @@ import torch
 import torch.nn.functional as F
 
 from mobilemani_data import schema
+from mobilemani_rl.envs.mobilemani_env import MobileManiEnv
 from mobilemani_rl.registry import MissingFileError
 from mobilemani_vla.policies.base import TASK, EvalPolicy, Observation, active_rows, scatter_rows
 
@@ -80,6 +81,12 @@ class LeRobotEvalPolicy(EvalPolicy):
         visual = [shape for _, shape in self.features.values() if len(shape) == 3]
         if visual:  # render as the training dataset was rendered: (C, H, W) of its first image feature
             self.image_size = visual[0][1:]
+
+    def start(self, env: MobileManiEnv, seed: int) -> None:
+        # LeRobot's policies draw their noise (diffusion, SmolVLA's flow matching) from torch's global
+        # generator. Seeding it per batch makes a block's episodes the same whichever blocks ran before it, in
+        # this process or in another evaluation worker.
+        torch.manual_seed(seed)
 
     def _batch(self, obs: Observation, rows: np.ndarray) -> dict:
         batch: dict = {TASK: [obs[TASK][i] for i in rows]}
