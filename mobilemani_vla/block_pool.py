@@ -39,6 +39,7 @@ def run_blocks_in_pool(
     """Each block with its records, in the order they finish. `run`, `cfg` and `make_policy` must pickle
     (module-level functions, dataclasses). A failing block stops the pool and raises in the caller; blocks
     not yet started are dropped, so a rerun runs them."""
+    workers = max(1, min(workers, len(blocks)))  # no idle processes, and their threads go to the busy ones
     threads = max(1, (os.cpu_count() or 1) // workers)
     pool = ProcessPoolExecutor(
         workers, get_context("spawn"), initializer=_start_worker, initargs=(run, cfg, make_policy, threads)
