@@ -37,6 +37,8 @@ from mobilemani_rl.rl.warm_start import warm_start
 from mobilemani_rl.schema import to_dataclass
 
 RUN_KEYS = ("task", "env", "rl")
+# where a run computes, not what it learns: a resumed run may change them
+PLACEMENT_KEYS = ("rl.ppo.device", "rl.ppo.torch_threads", "rl.ppo.update_threads")
 
 
 def load_newest_readable(runner: MobileManiRunner, run_dir: Path) -> Path | None:
@@ -55,7 +57,8 @@ def train(cfg: DictConfig) -> Path:
     ppo = to_dataclass(cfg, RLCfg).check().rl.ppo  # before anything is written
     run_dir = Path(cfg.run_dir)
     # first: a finished run asked for other settings is an error
-    save_or_check_config(run_dir, cfg, RUN_KEYS, OmegaConf.to_container(OmegaConf.structured(RLCfg)))
+    defaults = OmegaConf.to_container(OmegaConf.structured(RLCfg))
+    save_or_check_config(run_dir, cfg, RUN_KEYS, defaults, PLACEMENT_KEYS)
     if is_complete(run_dir):
         print(f"{run_dir} is complete ({RESULT} exists); nothing to do")
         return run_dir

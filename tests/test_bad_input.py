@@ -69,7 +69,12 @@ ROOT = Path(__file__).resolve().parents[1]
 
 
 def compose_root(name: str, overrides: list[str]):
+    """The composed root config `name`; importing the config modules registers the roots' schemas, so a test
+    run alone composes as in the whole suite."""
     from hydra import compose, initialize_config_dir
+
+    import mobilemani_rl.rl.config  # noqa: F401
+    import mobilemani_vla.eval_config  # noqa: F401
 
     with initialize_config_dir(config_dir=str(ROOT / "conf"), version_base="1.3"):
         return compose(config_name=name, overrides=overrides)
@@ -163,6 +168,25 @@ def test_a_changed_run_names_each_changed_key(tmp_path):
     changed = compose_root("rl", ["rl/ppo=tiny", f"run_dir={run_dir}", "rl.ppo.max_iterations=5"])
     with pytest.raises(ConfigMismatchError, match=r"\(rl.ppo.max_iterations: 3 -> 5\)"):
         save_or_check_config(run_dir, changed, ("rl",))
+
+
+def test_a_resumed_run_may_move_devices_but_not_change_what_it_learns(tmp_path, capsys):
+    """Where PPO computes (device, threads) may change between pieces of one run, e.g. a run started on a GPU
+    node goes on on a laptop; the saved config keeps the first values, and any learning setting is refused."""
+    from mobilemani_rl.registry import ConfigMismatchError
+    from mobilemani_rl.rl.run_dir import save_or_check_config
+    from mobilemani_rl.train import PLACEMENT_KEYS
+
+    run_dir = tmp_path / "run"
+    save_or_check_config(run_dir, compose_root("rl", ["rl/ppo=tiny", f"run_dir={run_dir}"]), ("rl",))
+    (run_dir / "model_2.pt").touch()  # it has something to resume
+    moved = ["rl/ppo=tiny", f"run_dir={run_dir}", "rl.ppo.device=cuda", "rl.ppo.update_threads=16"]
+    save_or_check_config(run_dir, compose_root("rl", moved), ("rl",), placement=PLACEMENT_KEYS)
+    assert "rl.ppo.device: cpu -> cuda; rl.ppo.update_threads: 0 -> 16" in capsys.readouterr().out
+    assert OmegaConf.load(run_dir / "config.yaml").rl.ppo.device == "cpu"
+    changed = compose_root("rl", [*moved, "rl.ppo.learning_rate=0.5"])
+    with pytest.raises(ConfigMismatchError, match=r"\(rl.ppo.learning_rate: 0.001 -> 0.5\)"):
+        save_or_check_config(run_dir, changed, ("rl",), placement=PLACEMENT_KEYS)
 
 
 def test_a_run_saved_before_a_key_existed_resumes_with_its_default(tmp_path):

@@ -7,6 +7,7 @@ warm start (`warm_start.pt`, written atomically once it is done) when PPO has sa
 
 from __future__ import annotations
 
+import copy
 import re
 from pathlib import Path
 
@@ -41,12 +42,18 @@ def is_complete(run_dir: Path) -> bool:
 
 
 def save_or_check_config(
-    run_dir: Path, cfg: DictConfig, keys: tuple[str, ...], defaults: dict | None = None
+    run_dir: Path,
+    cfg: DictConfig,
+    keys: tuple[str, ...],
+    defaults: dict | None = None,
+    placement: tuple[str, ...] = (),
 ) -> None:
     """Store the (resolved) config of a new run; for an existing run, require the same values under `keys`. A
     run that stopped before its first checkpoint (or its finished warm start) has nothing to resume, so its
     config is simply replaced. A key the saved config lacks (it was added to the schema later) counts as its
-    value in `defaults`, the value the run was trained with."""
+    value in `defaults`, the value the run was trained with. The dotted `placement` keys say where the run
+    computes, not what it learns: a change there is reported and the run resumes (a run started on a GPU node
+    can go on on a laptop); the saved config keeps its first values."""
     path = run_dir / CONFIG
     current = OmegaConf.create(OmegaConf.to_container(cfg, resolve=True))
     if not path.exists() or (
@@ -57,6 +64,9 @@ def save_or_check_config(
         return
     saved = OmegaConf.merge(OmegaConf.create(defaults or {}), OmegaConf.load(path))
     saved, wanted = OmegaConf.to_container(saved), OmegaConf.to_container(current)
+    if moved := changed_values(saved, wanted, placement):
+        print(f"resuming {run_dir} with another placement ({'; '.join(moved)})")
+    saved, wanted = _without(saved, placement), _without(wanted, placement)
     per_key = {k: changed_values(saved, wanted, (k,)) for k in keys}
     if differing := [k for k, changes in per_key.items() if changes]:
         changes = [change for k in differing for change in per_key[k]]
@@ -64,3 +74,16 @@ def save_or_check_config(
             f"{run_dir} was started with a different {', '.join(differing)} config ({'; '.join(changes)}); "
             f"resume with the saved {path} or choose another run_dir"
         )
+
+
+def _without(cfg: dict, dotted_keys: tuple[str, ...]) -> dict:
+    """A copy of a plain nested config without the leaves at `dotted_keys`."""
+    cfg = copy.deepcopy(cfg)
+    for dotted in dotted_keys:
+        *parents, leaf = dotted.split(".")
+        node = cfg
+        for part in parents:
+            node = node.get(part) if isinstance(node, dict) else None
+        if isinstance(node, dict):
+            node.pop(leaf, None)
+    return cfg
