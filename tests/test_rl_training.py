@@ -1,5 +1,6 @@
 """PPO teacher training with the tiny preset: checkpoints load and evaluate, runs resume after a kill."""
 
+import itertools
 import json
 import os
 import signal
@@ -106,6 +107,9 @@ def test_killed_training_resumes_from_last_checkpoint(tmp_path):
     assert not list(run_dir.glob("*.tmp"))  # the rerun's saves replace a `.tmp` the kill left
     curve = json.loads((run_dir / "curve.json").read_text())
     assert [row["iteration"] for row in curve] == list(range(8))  # the iterations before the kill are kept
+    # samples and seconds count the whole run across the resume
+    assert [row["samples"] for row in curve] == [(i + 1) * curve[0]["samples"] for i in range(8)]
+    assert all(a["seconds"] < b["seconds"] for a, b in itertools.pairwise(curve))
 
 
 def test_multi_object_policy_trains_over_a_category_and_evaluates_per_split(tmp_path):

@@ -174,11 +174,15 @@ class MobileManiRunner(OnPolicyRunner):
         return loaded["infos"]
 
     def resume_curve(self, start: int) -> None:
-        """Continue the saved curve of a run resumed at iteration `start`
-        (its rows from before the checkpoint)."""
+        """Continue the saved curve of a run resumed at iteration `start` (its rows from before the
+        checkpoint); its sample and training-second counts go on from the last kept row, so they count the
+        whole run, not the piece since the resume."""
         if self.curve_path is not None and self.curve_path.is_file():
             rows = json.loads(self.curve_path.read_text())
             self.logger.curve = [row for row in rows if row["iteration"] < start]
+            if self.logger.curve:
+                self.logger.tot_timesteps = int(self.logger.curve[-1]["samples"])
+                self.logger.tot_time = float(self.logger.curve[-1]["seconds"])
 
     def save(self, path: str, infos: dict | None = None) -> None:
         """Write to a temporary file, then rename: a killed run never leaves a truncated checkpoint. The curve
