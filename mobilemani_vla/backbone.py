@@ -14,7 +14,7 @@ from pathlib import Path
 import torch
 from torch import nn
 from transformers import Gemma2Config, PaliGemmaConfig, PaliGemmaForConditionalGeneration, SiglipVisionConfig
-from transformers.models.paligemma.modeling_paligemma import PaliGemmaModel
+from transformers.models.paligemma.modeling_paligemma import PaliGemmaModel, create_causal_mask_mapping
 
 from mobilemani_rl.registry import MissingFileError
 from mobilemani_vla.config import ModelCfg
@@ -64,6 +64,7 @@ class CognitionBackbone(nn.Module):
         with torch.no_grad():
             row = vlm.get_input_embeddings()(torch.tensor([init_token_id], device=vlm.device))[0]
         self.cognition = nn.Parameter(row.detach().clone())
+        self._masks: tuple[tuple, dict] | None = None  # the last padding pattern and its attention masks
 
     @property
     def width(self) -> int:
@@ -99,9 +100,25 @@ class CognitionBackbone(nn.Module):
         token_type = torch.cat([mask.new_zeros(b, n_img + n_txt), ones], dim=1)
         out = self.vlm(
             inputs_embeds=embeds,
-            attention_mask=mask,
+            attention_mask=self.attention_masks(embeds, mask, positions, token_type),
             position_ids=positions,
             token_type_ids=token_type,
             use_cache=False,
         )
         return out.last_hidden_state[:, -1]
+
+    def attention_masks(
+        self, embeds: torch.Tensor, mask: torch.Tensor, positions: torch.Tensor, token_type: torch.Tensor
+    ) -> dict:
+        """PaliGemma's per-layer-type attention masks, as its forward builds them, made once per padding
+        pattern: building them runs nested vmaps (~15% of a small model's CPU inference), and closed-loop
+        evaluation asks for one pattern at every step. Positions and token types follow from the padding mask
+        and the shape."""
+        key = (embeds.dtype, embeds.device, tuple(embeds.shape), mask.cpu().numpy().tobytes())
+        if self._masks is None or self._masks[0] != key:
+            training = self.vlm.training
+            built = create_causal_mask_mapping(
+                self.vlm.config, embeds, mask, None, positions, token_type, None, is_training=training
+            )
+            self._masks = (key, built)
+        return self._masks[1]

@@ -96,6 +96,28 @@ def test_cognition_token_reads_the_prefix_and_leaves_it_unchanged(backbone):
     assert not torch.allclose(first[0], moved[0])  # it sees every camera
 
 
+def test_attention_masks_are_paligemmas_own_built_once_per_padding_pattern(backbone, monkeypatch):
+    model, tokenizer = backbone
+    short = tokenizer(["open box", "open the box now"], padding=True, return_tensors="pt")
+    longer = tokenizer(
+        ["open box", "what action should the robot take to pull cart?"], padding=True, return_tensors="pt"
+    )
+    pixels = torch.rand(2, 2, 3, 32, 32)
+    with torch.no_grad():
+        kept = [model(pixels, enc.input_ids, enc.attention_mask) for enc in (short, short, longer)]
+        masks = model._masks
+        model(pixels, short.input_ids, short.attention_mask)
+        assert model._masks is not masks  # a new pattern builds anew
+        masks = model._masks
+        model(pixels + 0.5, short.input_ids, short.attention_mask)
+        assert model._masks is masks  # the same pattern reuses them
+        # PaliGemma's forward building the masks from the 2-D padding mask itself gives the same features
+        monkeypatch.setattr(model, "attention_masks", lambda embeds, mask, positions, token_type: mask)
+        fresh = [model(pixels, enc.input_ids, enc.attention_mask) for enc in (short, short, longer)]
+    for a, b in zip(kept, fresh, strict=True):
+        assert torch.equal(a, b)
+
+
 def test_ddim_uses_cogacts_ten_leading_steps_and_an_oracle_recovers_x0():
     scheduler = make_scheduler(VLACfg().diffusion)
     scheduler.set_timesteps(10)
