@@ -110,15 +110,20 @@ class CognitionBackbone(nn.Module):
     def attention_masks(
         self, embeds: torch.Tensor, mask: torch.Tensor, positions: torch.Tensor, token_type: torch.Tensor
     ) -> dict:
-        """PaliGemma's per-layer-type attention masks, as its forward builds them, made once per padding
-        pattern: building them runs nested vmaps (~15% of a small model's CPU inference), and closed-loop
-        evaluation asks for one pattern at every step. Positions and token types follow from the padding mask
-        and the shape."""
+        """PaliGemma's per-layer-type attention masks, as its forward builds them; at inference made once per
+        padding pattern: building them runs nested vmaps (~15% of a small model's CPU inference), and
+        closed-loop evaluation asks for one pattern at every step. Positions and token types follow from the
+        padding mask and the shape. Training batches pad their prompts differently, so nothing is kept there
+        (nor is the mask read back to the host)."""
+
+        def build() -> dict:
+            return create_causal_mask_mapping(
+                self.vlm.config, embeds, mask, None, positions, token_type, None, is_training=self.training
+            )
+
+        if self.training:
+            return build()
         key = (embeds.dtype, embeds.device, tuple(embeds.shape), mask.cpu().numpy().tobytes())
         if self._masks is None or self._masks[0] != key:
-            training = self.vlm.training
-            built = create_causal_mask_mapping(
-                self.vlm.config, embeds, mask, None, positions, token_type, None, is_training=training
-            )
-            self._masks = (key, built)
+            self._masks = (key, build())
         return self._masks[1]

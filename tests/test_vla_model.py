@@ -111,6 +111,10 @@ def test_attention_masks_are_paligemmas_own_built_once_per_padding_pattern(backb
         masks = model._masks
         model(pixels + 0.5, short.input_ids, short.attention_mask)
         assert model._masks is masks  # the same pattern reuses them
+        model.train()
+        model(pixels, longer.input_ids, longer.attention_mask)
+        model.eval()
+        assert model._masks is masks  # training keeps nothing
         # PaliGemma's forward building the masks from the 2-D padding mask itself gives the same features
         monkeypatch.setattr(model, "attention_masks", lambda embeds, mask, positions, token_type: mask)
         fresh = [model(pixels, enc.input_ids, enc.attention_mask) for enc in (short, short, longer)]
