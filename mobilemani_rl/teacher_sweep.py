@@ -1,7 +1,9 @@
 """A teacher for every category-skill row of a robot (the paper's teacher table), resumable:
 
     python -m mobilemani_rl.teacher_sweep --robot g1 [--runs runs/teachers] [--out docs/results/teachers]
-        [--categories box laptop] [--skills open] [hydra overrides, e.g. rl.ppo.max_iterations=300]
+        [hydra overrides, e.g. rl.ppo.max_iterations=300] [--categories box laptop] [--skills open]
+
+(overrides before `--categories` and `--skills`, which take every name after them)
 
 Each row trains one category-level policy on up to `objects_per_policy` of the category's train objects
 (`python -m mobilemani_rl.train robot=<robot> task.object=<category> task.skill=<skill>`) and evaluates it on

@@ -37,8 +37,9 @@ from mobilemani_rl.rl.warm_start import warm_start
 from mobilemani_rl.schema import to_dataclass
 
 RUN_KEYS = ("task", "env", "rl")
-# where a run computes, not what it learns: a resumed run may change them
-PLACEMENT_KEYS = ("rl.ppo.device", "rl.ppo.torch_threads", "rl.ppo.update_threads")
+# where a run computes, not what it learns: a resumed run may change them (each env steps alone, so the
+# physics thread count does not change a trajectory)
+PLACEMENT_KEYS = ("rl.ppo.device", "rl.ppo.torch_threads", "rl.ppo.update_threads", "env.physics.nthread")
 
 
 def load_newest_readable(runner: MobileManiRunner, run_dir: Path) -> Path | None:

@@ -171,8 +171,9 @@ def test_a_changed_run_names_each_changed_key(tmp_path):
 
 
 def test_a_resumed_run_may_move_devices_but_not_change_what_it_learns(tmp_path, capsys):
-    """Where PPO computes (device, threads) may change between pieces of one run, e.g. a run started on a GPU
-    node goes on on a laptop; the saved config keeps the first values, and any learning setting is refused."""
+    """Where PPO computes (device, threads, physics threads) may change between pieces of one run, e.g. a run
+    started on a GPU node goes on on a laptop; the saved config keeps the first values, and any learning
+    setting is refused."""
     from mobilemani_rl.registry import ConfigMismatchError
     from mobilemani_rl.rl.run_dir import save_or_check_config
     from mobilemani_rl.train import PLACEMENT_KEYS
@@ -180,13 +181,18 @@ def test_a_resumed_run_may_move_devices_but_not_change_what_it_learns(tmp_path, 
     run_dir = tmp_path / "run"
     save_or_check_config(run_dir, compose_root("rl", ["rl/ppo=tiny", f"run_dir={run_dir}"]), ("rl",))
     (run_dir / "model_2.pt").touch()  # it has something to resume
-    moved = ["rl/ppo=tiny", f"run_dir={run_dir}", "rl.ppo.device=cuda", "rl.ppo.update_threads=16"]
-    save_or_check_config(run_dir, compose_root("rl", moved), ("rl",), placement=PLACEMENT_KEYS)
-    assert "rl.ppo.device: cpu -> cuda; rl.ppo.update_threads: 0 -> 16" in capsys.readouterr().out
+    moved = [
+        *["rl/ppo=tiny", f"run_dir={run_dir}", "rl.ppo.device=cuda", "rl.ppo.update_threads=16"],
+        "env.physics.nthread=1",
+    ]
+    save_or_check_config(run_dir, compose_root("rl", moved), ("env", "rl"), placement=PLACEMENT_KEYS)
+    moves = capsys.readouterr().out
+    assert "rl.ppo.device: cpu -> cuda; rl.ppo.update_threads: 0 -> 16" in moves
+    assert "env.physics.nthread: 0 -> 1" in moves
     assert OmegaConf.load(run_dir / "config.yaml").rl.ppo.device == "cpu"
     changed = compose_root("rl", [*moved, "rl.ppo.learning_rate=0.5"])
     with pytest.raises(ConfigMismatchError, match=r"\(rl.ppo.learning_rate: 0.001 -> 0.5\)"):
-        save_or_check_config(run_dir, changed, ("rl",), placement=PLACEMENT_KEYS)
+        save_or_check_config(run_dir, changed, ("env", "rl"), placement=PLACEMENT_KEYS)
 
 
 def test_a_run_saved_before_a_key_existed_resumes_with_its_default(tmp_path):

@@ -50,8 +50,10 @@ def test_unknown_names_list_valid_choices(task, message):
         MobileManiEnv(EnvCfg(num_envs=1, task=task))
 
 
-def _rollout(seed: int, steps: int = 40) -> np.ndarray:
-    env = MobileManiEnv(EnvCfg(num_envs=3, seed=seed))
+def _rollout(seed: int, steps: int = 40, physics_threads: int = 0) -> np.ndarray:
+    cfg = EnvCfg(num_envs=3, seed=seed)
+    cfg.physics.nthread = physics_threads
+    env = MobileManiEnv(cfg)
     env.reset()
     rng = np.random.default_rng(123)
     return np.stack([env.step(rng.uniform(-1, 1, (3, 7))).obs for _ in range(steps)])
@@ -61,6 +63,12 @@ def test_same_seed_same_rollout():
     first, second = _rollout(7), _rollout(7)
     np.testing.assert_array_equal(first, second)
     assert not np.array_equal(first, _rollout(8))
+
+
+def test_the_physics_thread_count_does_not_change_a_rollout():
+    """Each env steps alone, so `env.physics.nthread` says where a run computes (a resumed run may change it),
+    not what it learns."""
+    np.testing.assert_array_equal(_rollout(7, physics_threads=1), _rollout(7, physics_threads=2))
 
 
 def test_rsl_rl_vecenv_interface():
