@@ -11,17 +11,7 @@ stamp() { echo "=== [$(( $(date +%s) - T0 )) s] $*"; }
 
 stamp setup
 nproc; nvidia-smi --query-gpu=name,memory.total,driver_version --format=csv
-python3 - "$SITE" runs/gpu_wheels <<'PY'
-import importlib.metadata as md, pathlib, re, sys, zipfile
-site, wheels = sys.argv[1], pathlib.Path(sys.argv[2])
-for wheel in sorted(wheels.glob("*.whl")):
-    dist = re.sub(r"[-_.]+", "-", wheel.name.split("-")[0]).lower()
-    try:
-        print(f"have {dist} {md.version(dist)}")
-    except md.PackageNotFoundError:
-        zipfile.ZipFile(wheel).extractall(site)
-        print(f"unpacked {wheel.name}")
-PY
+python3 docs/results/gpu_ppo/unpack_wheels.py "$SITE" runs/gpu_wheels
 export PYTHONPATH=$SITE:$PWD
 python3 -c "import sys, torch, numpy, mujoco, rsl_rl, cv2; print(sys.version.split()[0], 'torch', torch.__version__, 'numpy', numpy.__version__, 'mujoco', mujoco.__version__, 'cuda', torch.cuda.get_device_name(0))"
 

@@ -13,17 +13,7 @@ stamp() { echo "=== [$(( $(date +%s) - T0 )) s] $*"; }
 stamp setup
 nproc; export OMP_NUM_THREADS=1  # after nproc, which reports OMP_NUM_THREADS when it is set
 nvidia-smi --query-gpu=name,memory.total,driver_version --format=csv,noheader
-python3 - "$SITE" .whl <<'PY'
-import importlib.metadata as md, pathlib, re, sys, zipfile
-site, wheels = sys.argv[1], pathlib.Path(sys.argv[2])
-for wheel in sorted(wheels.glob("*.whl")):
-    dist = re.sub(r"[-_.]+", "-", wheel.name.split("-")[0]).lower()
-    try:
-        md.version(dist)
-    except md.PackageNotFoundError:
-        zipfile.ZipFile(wheel).extractall(site)
-        print(f"unpacked {wheel.name}")
-PY
+python3 docs/results/gpu_ppo/unpack_wheels.py "$SITE" .whl
 export PYTHONPATH=$SITE:$PWD
 python3 -c "import sys, torch, numpy, mujoco, rsl_rl; print(sys.version.split()[0], 'torch', torch.__version__, \
 'numpy', numpy.__version__, 'mujoco', mujoco.__version__, 'cuda', torch.cuda.get_device_name(0))"
