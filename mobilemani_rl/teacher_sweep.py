@@ -1,9 +1,7 @@
 """A teacher for every category-skill row of a robot (the paper's teacher table), resumable:
 
     python -m mobilemani_rl.teacher_sweep --robot g1 [--runs runs/teachers] [--out docs/results/teachers]
-        [hydra overrides, e.g. rl.ppo.max_iterations=300] [--categories box laptop] [--skills open]
-
-(overrides before `--categories` and `--skills`, which take every name after them)
+        [--categories box laptop] [--skills open] [hydra overrides, e.g. rl.ppo.max_iterations=300]
 
 Each row trains one category-level policy on up to `objects_per_policy` of the category's train objects
 (`python -m mobilemani_rl.train robot=<robot> task.object=<category> task.skill=<skill>`) and evaluates it on
@@ -21,6 +19,7 @@ from __future__ import annotations
 
 import argparse
 import json
+import sys
 import time
 from pathlib import Path
 
@@ -200,14 +199,17 @@ def main(argv: list[str] | None = None) -> None:
     parser.add_argument("--out", type=Path, default=Path("docs/results/teachers"))
     parser.add_argument("--categories", nargs="+", default=None)
     parser.add_argument("--skills", nargs="+", default=None)
-    parser.add_argument("overrides", nargs="*", help="Hydra overrides for every row (conf/rl.yaml)")
-    args = parser.parse_args(argv)
+    # Hydra overrides for every row (conf/rl.yaml), anywhere on the line: category and skill names hold no
+    # '=', so `--categories box rl.ppo.max_iterations=300` does not read the override as a category.
+    argv = sys.argv[1:] if argv is None else argv
+    hydra_overrides = [a for a in argv if "=" in a and not a.startswith("-")]
+    args = parser.parse_args([a for a in argv if a not in hydra_overrides])
     for category in args.categories or []:
         check_choice(category, CATEGORIES, "category")
     for skill in args.skills or []:
         check_choice(skill, ALL_SKILLS, "skill")
     todo = rows(args.categories, args.skills)
-    overrides = [row_overrides(args.robot, c, s, args.runs, args.overrides) for c, s in todo]
+    overrides = [row_overrides(args.robot, c, s, args.runs, hydra_overrides) for c, s in todo]
     configs = [checked_row_config(o) for o in overrides]  # every row checked before the first one trains
     records = []
     for k, ((category, skill), row_args, cfg) in enumerate(zip(todo, overrides, configs, strict=True)):

@@ -33,7 +33,9 @@ def test_a_row_trains_evaluates_on_test_objects_and_is_skipped_when_done(tmp_pat
     assert (out / "rl_by_skill.tex").is_file() and (out / "rl_by_category.tex").is_file()
     run_dir = runs / "g1" / "microwave" / "open"
     before = {p.name: p.stat().st_mtime for p in run_dir.iterdir()}
-    teacher_sweep.main(args)  # rerun: the finished row is not trained or evaluated again
+    # rerun, the overrides after the names: the finished row is not trained or evaluated again
+    names_first = ["--runs", str(runs), "--out", str(out), "--categories", "microwave", "--skills", "open"]
+    teacher_sweep.main([*names_first, *TINY])
     assert {p.name: p.stat().st_mtime for p in run_dir.iterdir()} == before
     assert json.loads((out / "teachers_g1.json").read_text()) == records
     teacher_sweep.main([*args[:-1], "close"])  # another row: the files keep the first one
