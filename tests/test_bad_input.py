@@ -182,7 +182,10 @@ def test_a_resumed_run_may_move_devices_but_not_change_what_it_learns(tmp_path, 
     save_or_check_config(run_dir, compose_root("rl", ["rl/ppo=tiny", f"run_dir={run_dir}"]), ("rl",))
     (run_dir / "model_2.pt").touch()  # it has something to resume
     moved = [
-        *["rl/ppo=tiny", f"run_dir={run_dir}", "rl.ppo.device=cuda", "rl.ppo.update_threads=16"],
+        "rl/ppo=tiny",
+        f"run_dir={run_dir}",
+        "rl.ppo.device=cuda",
+        "rl.ppo.update_threads=16",
         "env.physics.nthread=1",
     ]
     save_or_check_config(run_dir, compose_root("rl", moved), ("env", "rl"), placement=PLACEMENT_KEYS)

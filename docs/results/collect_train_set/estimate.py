@@ -25,17 +25,18 @@ def main(paths: list[str]) -> dict:
     sampled = collections.defaultdict(list)
     for path in paths:
         for category, skill, got, wanted, attempts, length, seconds in LINE.findall(open(path).read()):
-            sampled[f"{category} {skill}"].append((float(seconds), int(attempts), int(length), got == wanted))
+            combination = {"seconds": float(seconds), "attempts": int(attempts), "length": int(length)}
+            sampled[f"{category} {skill}"].append({**combination, "all": got == wanted})
     train_set = select_combinations("g1", SubsetCfg())
     in_train_set = collections.Counter(f"{c.category} {c.skill}" for c in train_set)
     rows = {
         row: {
             "combinations_sampled": len(found),
-            "seconds_mean": round(statistics.mean(s for s, *_ in found), 3),
-            "seconds_min_max": [min(s for s, *_ in found), max(s for s, *_ in found)],
-            "attempts_mean": round(statistics.mean(a for _, a, *_ in found), 1),
-            "length_mean": round(statistics.mean(n for *_, n, _ in found)),
-            "all_episodes_found": all(done for *_, done in found),
+            "seconds_mean": round(statistics.mean(c["seconds"] for c in found), 3),
+            "seconds_min_max": [min(c["seconds"] for c in found), max(c["seconds"] for c in found)],
+            "attempts_mean": round(statistics.mean(c["attempts"] for c in found), 1),
+            "length_mean": round(statistics.mean(c["length"] for c in found)),
+            "all_episodes_found": all(c["all"] for c in found),
             "combinations_in_train_set": in_train_set[row],
         }
         for row, found in sampled.items()
