@@ -6,12 +6,14 @@ Complete shards are skipped, so a rerun (or a resumed multirun job) only fills i
 run leaves at most a `.partial` file, which the rerun overwrites. A rerun whose settings would have made other
 episodes (teacher kind, episode count, seed, action noise) stops before collecting, as does one missing a PPO
 teacher. The count of combinations to collect is printed up front, and every combination's line ends with
-progress and an ETA.
+progress and an ETA. `collect.workers=N` collects N combinations side by side in worker processes, each on
+an equal share of the CPU's threads; a combination's episodes depend only on its seed, not on the worker.
 """
 
 from __future__ import annotations
 
 import time
+from functools import partial
 from pathlib import Path
 
 import hydra
@@ -25,6 +27,7 @@ from mobilemani_data.shards import complete_header, write_shard
 from mobilemani_data.teachers import TeacherUnavailable, build_teacher, check_teachers_exist, kind_of
 from mobilemani_rl.cli import entry_point
 from mobilemani_rl.envs.config import with_env_task
+from mobilemani_rl.process_pool import run_in_pool, threads_per_worker
 from mobilemani_rl.progress import Progress
 from mobilemani_rl.registry import ConfigMismatchError
 from mobilemani_rl.schema import changed_values, to_dataclass
@@ -95,25 +98,31 @@ def collect_combination(cfg: DataCfg, combo: Combination, path: Path) -> str:
     )
 
 
+def timed_collection(cfg: DataCfg, _state: None, item: tuple[int, Combination, Path]) -> tuple[str, float]:
+    """A combination's summary line and its seconds, here or in a worker (`process_pool.run_in_pool`)."""
+    _, combo, path = item
+    start = time.perf_counter()
+    summary = collect_combination(cfg, combo, path)
+    return summary, time.perf_counter() - start
+
+
 def collect(cfg: DataCfg) -> list[Path]:
     combos = shard_of(select_combinations(cfg.robot, cfg.subset), cfg.shard)
     paths = [Path(cfg.raw_dir) / shard_path(combo) for combo in combos]
     headers = [complete_header(path) for path in paths]
-    complete = [header is not None for header in headers]
     check_complete_shards(cfg, [(c, p, h) for c, p, h in zip(combos, paths, headers, strict=True) if h])
-    check_teachers_exist(cfg.teacher, [c for c, h in zip(combos, headers, strict=True) if h is None])
-    todo = complete.count(False)
-    print(f"{len(combos)} combinations: {len(combos) - todo} complete, {todo} to collect", flush=True)
-    progress = Progress(todo, "combinations")
-    for k, (combo, path, done) in enumerate(zip(combos, paths, complete, strict=True)):
-        if done:
-            print(f"[{k + 1}/{len(combos)}] {combo.name}: complete, skipped")
-            continue
-        start = time.perf_counter()
-        summary = collect_combination(cfg, combo, path)
+    todo = [(k, c, p) for k, (c, p, h) in enumerate(zip(combos, paths, headers, strict=True)) if h is None]
+    check_teachers_exist(cfg.teacher, [combo for _, combo, _ in todo])
+    done = len(combos) - len(todo)
+    print(f"{len(combos)} combinations: {done} complete, {len(todo)} to collect", flush=True)
+    workers = min(cfg.collect.workers, len(todo))
+    if workers > 1 and cfg.env.physics.nthread == 0:  # every worker on all cores would oversubscribe them
+        cfg.env.physics.nthread = threads_per_worker(workers)
+    finished = run_in_pool(partial(timed_collection, cfg), todo, workers)
+    progress = Progress(len(todo), "combinations")
+    for (k, combo, _), (summary, seconds) in finished:
         print(
-            f"[{k + 1}/{len(combos)}] {combo.name}: {summary} ({time.perf_counter() - start:.1f} s) | "
-            f"{progress.advance()}",
+            f"[{k + 1}/{len(combos)}] {combo.name}: {summary} ({seconds:.1f} s) | {progress.advance()}",
             flush=True,
         )
     return paths

@@ -32,6 +32,9 @@ class CollectCfg:
     seed: int = 0  # mixed with each combination's name into its env seed
     compression: int = 4  # gzip level of the HDF5 datasets
     action_noise: float = 0.0  # std of Gaussian noise added to the executed (not the recorded) action: DART
+    # Combinations collected side by side in worker processes (mobilemani_rl.process_pool); the episodes do
+    # not depend on it, so a rerun may change it.
+    workers: int = 1
 
 
 @dataclass
@@ -110,6 +113,7 @@ class DataCfg:
                 "subset.objects_per_category": self.subset.objects_per_category,
                 "collect.num_envs": self.collect.num_envs,
                 "collect.max_steps": self.collect.max_steps,
+                "collect.workers": self.collect.workers,
                 "shard.count": self.shard.count,
                 "export.width": self.export.width,
                 "export.height": self.export.height,

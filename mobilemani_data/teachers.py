@@ -40,7 +40,7 @@ def build_teacher(cfg: TeacherCfg, combo: Combination, env_base: EnvCfg, num_env
     if cfg.kind == "scripted":
         env = MobileManiEnv(recording_env_cfg(env_base, task_of(combo), num_envs, seed))
         return Teacher(env, ScriptedPolicy(env), "scripted")
-    return _ppo_teacher(cfg, combo, num_envs, seed)
+    return _ppo_teacher(cfg, combo, env_base.physics.nthread, num_envs, seed)
 
 
 def check_teachers_exist(cfg: TeacherCfg, combos: list[Combination]) -> None:
@@ -68,7 +68,7 @@ def check_teachers_exist(cfg: TeacherCfg, combos: list[Combination]) -> None:
         )
 
 
-def _ppo_teacher(cfg: TeacherCfg, combo: Combination, num_envs: int, seed: int) -> Teacher:
+def _ppo_teacher(cfg: TeacherCfg, combo: Combination, nthread: int, num_envs: int, seed: int) -> Teacher:
     # Imported here: the RL stack (torch, rsl-rl) is only needed for PPO teachers.
     from mobilemani_rl.teacher import (
         TeacherPolicy,
@@ -87,10 +87,12 @@ def _ppo_teacher(cfg: TeacherCfg, combo: Combination, num_envs: int, seed: int) 
             "it anyway)"
         )
     # The teacher acts in the env it was trained in (physics, action scales), placed in the recording scene,
-    # on this combination's object (a category run's config names the category).
+    # on this combination's object (a category run's config names the category), on as many physics threads
+    # as this collection gives it: the thread count does not change a rollout.
     run_cfg = run_config(checkpoint)
     run_cfg.task.object = combo.object_id
     run_cfg.task.scene = combo.scene
+    run_cfg.env.physics.nthread = nthread
     run_cfg.env.reset.recording = True
     run_cfg.logger = "tensorboard"
     env, actor = load_teacher(checkpoint, num_envs=num_envs, cfg=run_cfg)

@@ -47,8 +47,8 @@ class EvalCfg:
     # else DEFAULT_IMAGE_SIZE.
     image_size: list[int] | None = None
     video_episodes: int = 0  # head-camera MP4s of the first k episodes of each combination
-    # Processes running blocks side by side (mobilemani_vla.block_pool), each with its own policy and an equal
-    # share of the CPU's threads; results do not depend on it, so a rerun may change it.
+    # Processes running blocks side by side (mobilemani_rl.process_pool), each with its own policy and an
+    # equal share of the CPU's threads; results do not depend on it, so a rerun may change it.
     workers: int = 1
     env: EnvCfg = field(default_factory=EnvCfg)
 

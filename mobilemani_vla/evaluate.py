@@ -18,7 +18,7 @@ from __future__ import annotations
 
 import json
 import zlib
-from collections.abc import Callable, Iterator
+from collections.abc import Callable
 from functools import partial
 from pathlib import Path
 
@@ -30,13 +30,13 @@ from mobilemani_rl.cli import entry_point
 from mobilemani_rl.envs.config import TaskCfg, with_env_task
 from mobilemani_rl.envs.mobilemani_env import MobileManiEnv, StepResult
 from mobilemani_rl.io import write_json_atomic
+from mobilemani_rl.process_pool import run_in_pool
 from mobilemani_rl.progress import Progress
 from mobilemani_rl.registry import ConfigMismatchError, InputError
 from mobilemani_rl.rollout import EpisodeStats
 from mobilemani_rl.schema import changed_values, to_dataclass
 from mobilemani_rl.tasks import Combination, recording_env_cfg, select_combinations
 from mobilemani_rl.video import HeadCameraRecorder
-from mobilemani_vla.block_pool import Block, run_blocks_in_pool
 from mobilemani_vla.eval_config import DEFAULT_IMAGE_SIZE, EvalCfg
 from mobilemani_vla.harness import run_batch
 from mobilemani_vla.policies.base import EvalPolicy
@@ -142,13 +142,13 @@ def check_same_settings(out: Path, settings: dict) -> None:
         )
 
 
-def run_blocks(cfg: EvalCfg, policy: EvalPolicy, blocks: list[Block]) -> Iterator[tuple[Block, list[dict]]]:
-    """Each block with its records as it finishes: here, or over `cfg.workers` processes."""
-    if cfg.workers == 1:
-        for k, combo, block in blocks:
-            yield (k, combo, block), evaluate_block(cfg, policy, combo, block)
-        return
-    yield from run_blocks_in_pool(evaluate_block, cfg, partial(build_policy, cfg.policy), blocks, cfg.workers)
+Block = tuple[int, Combination, int]  # (combination index, combination, block index)
+
+
+def evaluate_item(cfg: EvalCfg, policy: EvalPolicy, item: Block) -> list[dict]:
+    """A block's records, here or in a worker that built its own policy from the config (`cfg.workers`)."""
+    _, combo, block = item
+    return evaluate_block(cfg, policy, combo, block)
 
 
 def evaluate(cfg: EvalCfg, policy: EvalPolicy | None = None) -> dict:
@@ -194,7 +194,10 @@ def evaluate(cfg: EvalCfg, policy: EvalPolicy | None = None) -> dict:
         flush=True,
     )
     progress = Progress(len(todo) * size, "episodes")
-    for (k, combo, block), records in run_blocks(cfg, policy, todo):
+    finished = run_in_pool(
+        partial(evaluate_item, cfg), todo, cfg.workers, partial(build_policy, cfg.policy), local_state=policy
+    )
+    for (k, combo, block), records in finished:
         results.append(records)
         rate = sum(r["success"] for r in records) / len(records)
         print(

@@ -16,8 +16,8 @@ from mobilemani_vla.synthetic import write_synthetic_dataset
 
 
 def test_non_positive_counts_name_their_keys(tmp_path):
-    with pytest.raises(ValueError, match=r"subset.episodes=-2, collect.num_envs=0"):
-        tiny_cfg(tmp_path, "subset.episodes=-2", "collect.num_envs=0")
+    with pytest.raises(ValueError, match=r"subset.episodes=-2, collect.num_envs=0, collect.workers=0"):
+        tiny_cfg(tmp_path, "subset.episodes=-2", "collect.num_envs=0", "collect.workers=0")
     with pytest.raises(ValueError, match="num_envs=0"):
         MobileManiEnv(EnvCfg(num_envs=0))
     assert not any(tmp_path.iterdir())

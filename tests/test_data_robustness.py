@@ -7,6 +7,7 @@ import sys
 import time
 from pathlib import Path
 
+import numpy as np
 import pytest
 from data_helpers import tiny_cfg
 
@@ -55,6 +56,24 @@ def test_killed_collection_reruns_to_exact_counts(tmp_path):
     assert all(len(read_shard(p).episodes) == 2 for p in paths)
     assert not list(raw.rglob(f"*{PARTIAL_SUFFIX}"))
     assert all(p.stat().st_mtime_ns == mtime for p, mtime in first.items())  # complete shards untouched
+
+
+def test_two_workers_collect_the_episodes_of_one_process(tmp_path, capsys):
+    """Combinations spread over two worker processes give one process's shards, array by array."""
+    shards = {}
+    for workers in (1, 2):
+        collect(tiny_cfg(tmp_path / str(workers), *SUBSET, f"collect.workers={workers}"))
+        paths = shard_paths(tmp_path / str(workers) / "raw", "g1")
+        shards[workers] = {p.relative_to(tmp_path / str(workers)): read_shard(p) for p in paths}
+    assert len(shards[2]) == 4 and shards[2].keys() == shards[1].keys()
+    for name, shard in shards[2].items():
+        alone = shards[1][name]
+        assert shard.header["seed"] == alone.header["seed"]
+        assert len(shard.episodes) == len(alone.episodes) == 2
+        for ours, theirs in zip(shard.episodes, alone.episodes, strict=True):
+            assert ours.arrays.keys() == theirs.arrays.keys()
+            assert all(np.array_equal(ours.arrays[k], theirs.arrays[k]) for k in ours.arrays), name
+    assert "| 4/4 combinations, " in capsys.readouterr().out
 
 
 def test_a_rerun_asking_for_other_episodes_stops_before_collecting(tmp_path):
