@@ -2,12 +2,16 @@
 
 Workers start with `spawn` (a fresh interpreter: no forked EGL contexts, CUDA state or torch thread pools),
 each with an equal share of the CPU's threads, and build their state once (e.g. a policy). An item's result
-must not depend on which worker runs it; the caller stays the only writer of any file the items share.
+must not depend on which worker runs it; the caller stays the only writer of any file the items share. A
+worker whose parent is gone (killed with SIGKILL, which no handler sees) exits within a second instead of
+running on and racing a rerun for the same files.
 """
 
 from __future__ import annotations
 
 import os
+import threading
+import time
 from collections.abc import Callable, Iterator, Sequence
 from concurrent.futures import Future, ProcessPoolExecutor, as_completed
 from multiprocessing import get_context
@@ -23,7 +27,14 @@ def threads_per_worker(workers: int) -> int:
     return max(1, (os.cpu_count() or 1) // workers)
 
 
+def _exit_when_orphaned(parent: int) -> None:
+    while os.getppid() == parent:
+        time.sleep(1.0)
+    os._exit(1)  # mid-item at worst: files are written atomically, so nothing half-written looks complete
+
+
 def _start_worker(task: Callable, make_state: Callable[[], Any] | None, threads: int) -> None:
+    threading.Thread(target=_exit_when_orphaned, args=(os.getppid(),), daemon=True).start()
     torch.set_num_threads(threads)
     _worker.update(task=task, state=make_state() if make_state else None)
 

@@ -58,6 +58,45 @@ def test_killed_collection_reruns_to_exact_counts(tmp_path):
     assert all(p.stat().st_mtime_ns == mtime for p, mtime in first.items())  # complete shards untouched
 
 
+def running(pid: int) -> bool:
+    """Whether the process exists and is not a zombie waiting to be reaped (Linux /proc)."""
+    try:
+        return Path(f"/proc/{pid}/stat").read_text().rsplit(") ", 1)[1][0] != "Z"
+    except FileNotFoundError:
+        return False
+
+
+@pytest.mark.slow
+def test_workers_of_a_killed_collection_stop_and_the_rerun_fills_in_the_rest(tmp_path):
+    """SIGKILL reaches only the parent; its workers must not go on writing shards beside a rerun."""
+    overrides = [f"data_dir={tmp_path}", "data/subset=tiny", *SUBSET, "collect.num_envs=8"]
+    overrides.append("collect.workers=2")
+    proc = subprocess.Popen(
+        [sys.executable, "-m", "mobilemani_data.collect", *overrides],
+        cwd=ROOT,
+        stdout=subprocess.DEVNULL,
+        stderr=subprocess.DEVNULL,
+    )
+    raw = tmp_path / "raw"
+    deadline = time.time() + 120
+    while not shard_paths(raw, "g1") and time.time() < deadline and proc.poll() is None:
+        time.sleep(0.01)
+    children = [int(pid) for pid in Path(f"/proc/{proc.pid}/task/{proc.pid}/children").read_text().split()]
+    proc.kill()
+    proc.wait()
+    assert len(children) >= 2, "two workers (and multiprocessing's resource tracker) should have started"
+    deadline = time.time() + 10
+    while any(running(pid) for pid in children) and time.time() < deadline:
+        time.sleep(0.1)
+    assert not any(running(pid) for pid in children)
+
+    collect(tiny_cfg(tmp_path, *SUBSET))
+    paths = shard_paths(raw, "g1")
+    assert len(paths) == 4
+    assert all(len(read_shard(p).episodes) == 2 for p in paths)
+    assert not list(raw.rglob(f"*{PARTIAL_SUFFIX}"))
+
+
 def test_two_workers_collect_the_episodes_of_one_process(tmp_path, capsys):
     """Combinations spread over two worker processes give one process's shards, array by array."""
     shards = {}
