@@ -2,14 +2,18 @@
 
 Workers start with `spawn` (a fresh interpreter: no forked EGL contexts, CUDA state or torch thread pools),
 each with an equal share of the CPU's threads, and build their state once (e.g. a policy). An item's result
-must not depend on which worker runs it; the caller stays the only writer of any file the items share. A
-worker whose parent is gone (killed with SIGKILL, which no handler sees) exits within a second instead of
-running on and racing a rerun for the same files.
+must not depend on which worker runs it; the caller stays the only writer of any file the items share.
+
+Stopping: the workers are terminated as soon as the caller stops, whether it finished, failed or was
+interrupted; Ctrl-C reaches only the caller (workers ignore SIGINT), which then stops them. A worker whose
+caller is gone (killed with SIGKILL, which no handler sees) exits within a second instead of running on and
+racing a rerun for the same files. An item cut short leaves only what its task writes atomically.
 """
 
 from __future__ import annotations
 
 import os
+import signal
 import threading
 import time
 from collections.abc import Callable, Iterator, Sequence
@@ -30,10 +34,11 @@ def threads_per_worker(workers: int) -> int:
 def _exit_when_orphaned(parent: int) -> None:
     while os.getppid() == parent:
         time.sleep(1.0)
-    os._exit(1)  # mid-item at worst: files are written atomically, so nothing half-written looks complete
+    os._exit(1)
 
 
 def _start_worker(task: Callable, make_state: Callable[[], Any] | None, threads: int) -> None:
+    signal.signal(signal.SIGINT, signal.SIG_IGN)  # Ctrl-C signals the whole process group
     threading.Thread(target=_exit_when_orphaned, args=(os.getppid(),), daemon=True).start()
     torch.set_num_threads(threads)
     _worker.update(task=task, state=make_state() if make_state else None)
@@ -53,7 +58,7 @@ def run_in_pool[Item, Result](
     """Each item with `task(state, item)`, in the order they finish. With more than one worker (and item),
     every worker builds `state` once with `make_state()` (None without it), and `task`, `make_state` and the
     items must pickle (module-level functions, partials of them, dataclasses); otherwise the items run here,
-    in order, on `local_state`. A failing item stops the pool and raises in the caller; items not yet started
+    in order, on `local_state`. A failing item stops the pool and raises in the caller; items not yet finished
     are dropped, so a rerun runs them."""
     workers = min(workers, len(items))  # no idle processes, and their threads go to the busy ones
     if workers <= 1:
@@ -70,4 +75,8 @@ def run_in_pool[Item, Result](
         for future in as_completed(futures):
             yield futures[future], future.result()
     finally:
+        # Python 3.14's terminate_workers(): without it, an interrupted caller would wait for every item
+        # already queued to a worker (minutes of evaluation) before it exits.
+        for process in list((pool._processes or {}).values()):
+            process.terminate()
         pool.shutdown(wait=True, cancel_futures=True)

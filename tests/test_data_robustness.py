@@ -2,6 +2,7 @@
 
 import os
 import shutil
+import signal
 import subprocess
 import sys
 import time
@@ -66,24 +67,36 @@ def running(pid: int) -> bool:
         return False
 
 
-@pytest.mark.slow
-def test_workers_of_a_killed_collection_stop_and_the_rerun_fills_in_the_rest(tmp_path):
-    """SIGKILL reaches only the parent; its workers must not go on writing shards beside a rerun."""
-    overrides = [f"data_dir={tmp_path}", "data/subset=tiny", *SUBSET, "collect.num_envs=8"]
-    overrides.append("collect.workers=2")
-    proc = subprocess.Popen(
+def start_collection(overrides: list[str]) -> subprocess.Popen:
+    """`python -m mobilemani_data.collect` as a terminal starts it: its own process group, SIGINT handled
+    (a background job of a shell would ignore it)."""
+    return subprocess.Popen(
         [sys.executable, "-m", "mobilemani_data.collect", *overrides],
         cwd=ROOT,
         stdout=subprocess.DEVNULL,
         stderr=subprocess.DEVNULL,
+        start_new_session=True,
+        preexec_fn=lambda: signal.signal(signal.SIGINT, signal.SIG_DFL),
     )
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("stop", ["kill -9", "Ctrl-C"])
+def test_workers_of_a_stopped_collection_stop_and_the_rerun_fills_in_the_rest(tmp_path, stop):
+    """SIGKILL reaches only the parent, Ctrl-C the whole group: either way no worker may go on writing shards
+    beside a rerun."""
+    overrides = [f"data_dir={tmp_path}", "data/subset=tiny", *SUBSET, "collect.num_envs=8"]
+    proc = start_collection([*overrides, "collect.workers=2"])
     raw = tmp_path / "raw"
     deadline = time.time() + 120
     while not shard_paths(raw, "g1") and time.time() < deadline and proc.poll() is None:
         time.sleep(0.01)
     children = [int(pid) for pid in Path(f"/proc/{proc.pid}/task/{proc.pid}/children").read_text().split()]
-    proc.kill()
-    proc.wait()
+    if stop == "kill -9":
+        proc.kill()
+    else:
+        os.killpg(proc.pid, signal.SIGINT)
+    proc.wait(timeout=60)
     assert len(children) >= 2, "two workers (and multiprocessing's resource tracker) should have started"
     deadline = time.time() + 10
     while any(running(pid) for pid in children) and time.time() < deadline:
