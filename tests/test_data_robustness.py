@@ -26,18 +26,31 @@ ROOT = Path(__file__).resolve().parents[1]
 SUBSET = ["subset.objects=[dishwasher/0000]", "subset.episodes=2"]
 
 
-def test_killed_collection_reruns_to_exact_counts(tmp_path):
-    overrides = [f"data_dir={tmp_path}", "data/subset=tiny", *SUBSET, "collect.num_envs=8"]
-    proc = subprocess.Popen(
+def start_collection(overrides: list[str]) -> subprocess.Popen:
+    """`python -m mobilemani_data.collect` as a terminal starts it: its own process group, SIGINT handled
+    (a background job of a shell would ignore it)."""
+    return subprocess.Popen(
         [sys.executable, "-m", "mobilemani_data.collect", *overrides],
         cwd=ROOT,
         stdout=subprocess.DEVNULL,
         stderr=subprocess.DEVNULL,
+        start_new_session=True,
+        preexec_fn=lambda: signal.signal(signal.SIGINT, signal.SIG_DFL),
     )
-    raw = tmp_path / "raw"
+
+
+def wait_for_a_shard(proc: subprocess.Popen, raw: Path) -> None:
+    """Until the collection has written its first shard (or ended, or 120 s passed)."""
     deadline = time.time() + 120
     while not shard_paths(raw, "g1") and time.time() < deadline and proc.poll() is None:
         time.sleep(0.01)
+
+
+def test_killed_collection_reruns_to_exact_counts(tmp_path):
+    overrides = [f"data_dir={tmp_path}", "data/subset=tiny", *SUBSET, "collect.num_envs=8"]
+    proc = start_collection(overrides)
+    raw = tmp_path / "raw"
+    wait_for_a_shard(proc, raw)
     proc.kill()
     proc.wait()
     done = shard_paths(raw, "g1")
@@ -67,19 +80,6 @@ def running(pid: int) -> bool:
         return False
 
 
-def start_collection(overrides: list[str]) -> subprocess.Popen:
-    """`python -m mobilemani_data.collect` as a terminal starts it: its own process group, SIGINT handled
-    (a background job of a shell would ignore it)."""
-    return subprocess.Popen(
-        [sys.executable, "-m", "mobilemani_data.collect", *overrides],
-        cwd=ROOT,
-        stdout=subprocess.DEVNULL,
-        stderr=subprocess.DEVNULL,
-        start_new_session=True,
-        preexec_fn=lambda: signal.signal(signal.SIGINT, signal.SIG_DFL),
-    )
-
-
 @pytest.mark.slow
 @pytest.mark.parametrize("stop", ["kill -9", "Ctrl-C"])
 def test_workers_of_a_stopped_collection_stop_and_the_rerun_fills_in_the_rest(tmp_path, stop):
@@ -88,9 +88,7 @@ def test_workers_of_a_stopped_collection_stop_and_the_rerun_fills_in_the_rest(tm
     overrides = [f"data_dir={tmp_path}", "data/subset=tiny", *SUBSET, "collect.num_envs=8"]
     proc = start_collection([*overrides, "collect.workers=2"])
     raw = tmp_path / "raw"
-    deadline = time.time() + 120
-    while not shard_paths(raw, "g1") and time.time() < deadline and proc.poll() is None:
-        time.sleep(0.01)
+    wait_for_a_shard(proc, raw)
     children = [int(pid) for pid in Path(f"/proc/{proc.pid}/task/{proc.pid}/children").read_text().split()]
     if stop == "kill -9":
         proc.kill()
