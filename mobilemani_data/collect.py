@@ -5,7 +5,8 @@
 Complete shards are skipped, so a rerun (or a resumed multirun job) only fills in what is missing; a killed
 run leaves at most a `.partial` file, which the rerun overwrites. A rerun whose settings would have made other
 episodes (teacher kind, episode count, seed, action noise) stops before collecting, as does one missing a PPO
-teacher. The count of combinations to collect is printed up front, and every combination's line ends with
+teacher; combinations whose teacher trained below `teacher.min_train_success` are left out, with one line per
+such teacher. The count of combinations to collect is printed up front, and every combination's line ends with
 progress and an ETA. `collect.workers=N` collects N combinations side by side in worker processes, each on
 an equal share of the CPU's threads; a combination's episodes depend only on its seed, not on the worker.
 """
@@ -24,7 +25,7 @@ from mobilemani_data.combos import shard_of, shard_path
 from mobilemani_data.config import DataCfg
 from mobilemani_data.recorder import collect_successes
 from mobilemani_data.shards import complete_header, write_shard
-from mobilemani_data.teachers import TeacherUnavailable, build_teacher, check_teachers_exist, kind_of
+from mobilemani_data.teachers import build_teacher, kind_of, teachable_combinations
 from mobilemani_rl.cli import entry_point
 from mobilemani_rl.envs.config import with_env_task
 from mobilemani_rl.process_pool import run_in_pool, threads_per_worker
@@ -64,10 +65,7 @@ def check_complete_shards(cfg: DataCfg, done: list[tuple[Combination, Path, dict
 
 def collect_combination(cfg: DataCfg, combo: Combination, path: Path) -> str:
     seed = combo.seed(cfg.collect.seed)
-    try:
-        teacher = build_teacher(cfg.teacher, combo, cfg.env, cfg.collect.num_envs, seed)
-    except TeacherUnavailable as err:
-        return f"skipped: {err}"
+    teacher = build_teacher(cfg.teacher, combo, cfg.env, cfg.collect.num_envs, seed)
     rollouts = collect_successes(
         teacher.env,
         teacher.policy,
@@ -111,10 +109,15 @@ def collect(cfg: DataCfg) -> list[Path]:
     paths = [Path(cfg.raw_dir) / shard_path(combo) for combo in combos]
     headers = [complete_header(path) for path in paths]
     check_complete_shards(cfg, [(c, p, h) for c, p, h in zip(combos, paths, headers, strict=True) if h])
-    todo = [(k, c, p) for k, (c, p, h) in enumerate(zip(combos, paths, headers, strict=True)) if h is None]
-    check_teachers_exist(cfg.teacher, [combo for _, combo, _ in todo])
-    done = len(combos) - len(todo)
-    print(f"{len(combos)} combinations: {done} complete, {len(todo)} to collect", flush=True)
+    missing = [(k, c, p) for k, (c, p, h) in enumerate(zip(combos, paths, headers, strict=True)) if h is None]
+    teachable, notes = teachable_combinations(cfg.teacher, [combo for _, combo, _ in missing])
+    kept = set(teachable)
+    todo = [item for item in missing if item[1] in kept]
+    complete = len(combos) - len(missing)
+    left_out = f"{len(missing) - len(todo)} left out, " if len(todo) < len(missing) else ""
+    print(f"{len(combos)} combinations: {complete} complete, {left_out}{len(todo)} to collect", flush=True)
+    for note in notes:
+        print(note, flush=True)
     workers = min(cfg.collect.workers, len(todo))
     if workers > 1 and cfg.env.physics.nthread == 0:  # every worker on all cores would oversubscribe them
         cfg.env.physics.nthread = threads_per_worker(workers)

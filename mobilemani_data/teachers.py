@@ -15,10 +15,6 @@ from mobilemani_rl.tasks import Combination, recording_env_cfg
 KINDS = ("scripted", "ppo")
 
 
-class TeacherUnavailable(RuntimeError):
-    """A PPO teacher that should be skipped: it trained below the success bar."""
-
-
 @dataclass
 class Teacher:
     env: MobileManiEnv
@@ -43,20 +39,25 @@ def build_teacher(cfg: TeacherCfg, combo: Combination, env_base: EnvCfg, num_env
     return _ppo_teacher(cfg, combo, env_base.physics.nthread, num_envs, seed)
 
 
-def check_teachers_exist(cfg: TeacherCfg, combos: list[Combination]) -> None:
-    """Look up every PPO teacher the combinations need before anything is collected: one error naming the
-    missing runs, instead of a stop midway through a long collection."""
+def teachable_combinations(cfg: TeacherCfg, combos: list[Combination]) -> tuple[list[Combination], list[str]]:
+    """Look up every PPO teacher the combinations need before anything is collected: a missing one stops the
+    run with one error naming them all, instead of a stop midway through a long collection. Combinations whose
+    teacher trained below `teacher.min_train_success` are left out (as the reference does), with one line per
+    such teacher run instead of one per combination."""
     if cfg.kind != "ppo":
-        return
-    from mobilemani_rl.teacher import find_teacher_checkpoint
+        return combos, []
+    from mobilemani_rl.teacher import find_teacher_checkpoint, trained_success
 
     tasks = sorted({(c.robot, c.object_id, c.skill) for c in combos})
-    missing = []
+    missing, weak_runs = [], {}
     for robot, object_id, skill in tasks:
         try:
-            find_teacher_checkpoint(cfg.runs_dir, robot, object_id, skill)
+            run_dir = find_teacher_checkpoint(cfg.runs_dir, robot, object_id, skill).parent
         except MissingFileError:
             missing.append(f"{object_id} {skill}")
+            continue
+        if (rate := trained_success(run_dir)) is not None and rate < cfg.min_train_success:
+            weak_runs[(robot, object_id, skill)] = f"{run_dir} trained to success {rate:.2f}"
     if missing:
         shown = ", ".join(missing[:4]) + (", ..." if len(missing) > 4 else "")
         raise MissingFileError(
@@ -66,6 +67,13 @@ def check_teachers_exist(cfg: TeacherCfg, combos: list[Combination]) -> None:
             "category's into runs/teachers (then teacher.runs_dir=runs/teachers); or collect fewer "
             "(subset.categories=[...], subset.skills=[...])"
         )
+    kept = [c for c in combos if (c.robot, c.object_id, c.skill) not in weak_runs]
+    notes = [
+        f"left out: {run} < teacher.min_train_success={cfg.min_train_success} (lower it, e.g. "
+        "teacher.min_train_success=0, to collect with it anyway)"
+        for run in sorted(set(weak_runs.values()))
+    ]
+    return kept, notes
 
 
 def _ppo_teacher(cfg: TeacherCfg, combo: Combination, nthread: int, num_envs: int, seed: int) -> Teacher:
@@ -75,17 +83,9 @@ def _ppo_teacher(cfg: TeacherCfg, combo: Combination, nthread: int, num_envs: in
         find_teacher_checkpoint,
         load_teacher,
         run_config,
-        trained_success,
     )
 
     checkpoint = find_teacher_checkpoint(cfg.runs_dir, combo.robot, combo.object_id, combo.skill)
-    run_dir = checkpoint.parent
-    if (rate := trained_success(run_dir)) is not None and rate < cfg.min_train_success:
-        raise TeacherUnavailable(
-            f"{run_dir} trained to success {rate:.2f} < teacher.min_train_success="
-            f"{cfg.min_train_success} (lower it, e.g. teacher.min_train_success=0, to collect with "
-            "it anyway)"
-        )
     # The teacher acts in the env it was trained in (physics, action scales), placed in the recording scene,
     # on this combination's object (a category run's config names the category), on as many physics threads
     # as this collection gives it: the thread count does not change a rollout.

@@ -10,7 +10,8 @@ import torch
 from data_helpers import tiny_cfg
 from hydra import compose, initialize_config_dir
 
-from mobilemani_data.teachers import TeacherUnavailable, build_teacher
+from mobilemani_data.collect import collect
+from mobilemani_data.teachers import build_teacher, teachable_combinations
 from mobilemani_rl.assets.objects import catalog_ids
 from mobilemani_rl.rl.run_dir import CONFIG, RESULT, latest_checkpoint
 from mobilemani_rl.tasks import select_combinations
@@ -69,7 +70,7 @@ def test_loader_finds_loads_and_refuses_code(trained_run, tmp_path, monkeypatch)
         load_teacher(bad, num_envs=1)
 
 
-def test_collection_falls_back_to_the_category_teacher_and_says_how_to_keep_a_weak_one(tmp_path):
+def test_collection_falls_back_to_the_category_teacher_and_says_how_to_keep_a_weak_one(tmp_path, capsys):
     """`make rl OBJECT=box` trains one policy for the category;
     collection on any box without its own run uses it."""
     runs_dir = tmp_path / "runs"
@@ -102,9 +103,21 @@ def test_collection_falls_back_to_the_category_teacher_and_says_how_to_keep_a_we
     assert teacher.name == str(checkpoint) and teacher.env.cfg.task.object == object_id
     assert teacher.policy().shape == (2, teacher.env.num_actions)
 
+    assert teachable_combinations(data.teacher, [combo]) == ([combo], [])
+
     result = checkpoint.parent / RESULT
     result.write_text(json.dumps({**json.loads(result.read_text()), "train_success": 0.05}))
-    with pytest.raises(
-        TeacherUnavailable, match=r"0.05 < teacher.min_train_success=0.1 .*teacher.min_train_success=0,"
-    ):
-        build_teacher(data.teacher, combo, data.env, 2, seed=0)
+    kept, notes = teachable_combinations(data.teacher, [combo])
+    assert kept == [] and notes == [
+        f"left out: {checkpoint.parent} trained to success 0.05 < teacher.min_train_success=0.1 (lower it, "
+        "e.g. teacher.min_train_success=0, to collect with it anyway)"
+    ]
+    capsys.readouterr()  # drop training's output
+    (path,) = collect(data)
+    assert not path.exists() and not list(Path(data.raw_dir).rglob("*.h5*"))
+    assert capsys.readouterr().out.splitlines() == [
+        "1 combinations: 0 complete, 1 left out, 0 to collect",
+        *notes,
+    ]
+    data.teacher.min_train_success = 0.0
+    assert teachable_combinations(data.teacher, [combo]) == ([combo], [])

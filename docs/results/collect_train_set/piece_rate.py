@@ -30,8 +30,9 @@ def main(log_path: str, raw_dir: str) -> dict:
     done, todo, hours, minutes, seconds = PROGRESS.findall(log)[-1]
     elapsed = 3600 * int(hours or 0) + 60 * int(minutes or 0) + int(seconds or 0)
     by_name = {c.name: c for c in select_combinations("g1", SubsetCfg())}
+    collected = NAME.findall(log)
     env_steps = 0
-    for name in NAME.findall(log):
+    for name in collected:
         header = complete_header(Path(raw_dir) / shard_path(by_name[name]))
         env_steps += header["steps"] * OmegaConf.create(header["env_cfg"]).num_envs
     rows = collections.defaultdict(list)
@@ -40,8 +41,10 @@ def main(log_path: str, raw_dir: str) -> dict:
     return {
         "combinations_done": int(done),
         "combinations_to_collect": int(todo),
+        # left out at once, without episodes: its teacher trained below teacher.min_train_success
+        "combinations_skipped": int(done) - len(collected),
         "elapsed_seconds": elapsed,
-        "combinations_per_minute": round(60 * int(done) / elapsed, 1),
+        "combinations_per_minute": round(60 * len(collected) / elapsed, 1),
         "env_steps": env_steps,
         "env_steps_per_second": round(env_steps / elapsed),
         "rows": {
