@@ -65,11 +65,15 @@ rl: setup
 TEACHERS ?= runs/teachers
 TEACHERS_OUT ?= docs/results/teachers
 TEACHER_ITERATIONS ?= 300
+# holistic pick is still learning after 300 (g1 31.4% and 4.2% on test objects in two sweeps, xhand 10.2%);
+# 3000 gave 70.8% (g1; the paper 66.4%) and 67.2% (xhand; 72.6%): docs/results/teachers/g1_sweep.md, xhand_sweep.md
+TEACHER_PICK_ITERATIONS ?= 3000
 TEACHER_ARGS ?=
 # warm start from 128 scripted episodes per object: the 8 train objects of a row give a single-object run's 1024
 teachers: setup
 	$(PY) -m mobilemani_rl.teacher_sweep --robot $(ROBOT) --runs $(TEACHERS) --out $(TEACHERS_OUT)/$(ROBOT) \
-		rl.ppo.max_iterations=$(TEACHER_ITERATIONS) rl.ppo.warm_start.episodes=128 $(TEACHER_ARGS)
+		rl.ppo.max_iterations=$(TEACHER_ITERATIONS) --skill-iterations pick:$(TEACHER_PICK_ITERATIONS) \
+		rl.ppo.warm_start.episodes=128 $(TEACHER_ARGS)
 
 # Tables (Markdown + LaTeX) and bar plots from teacher evaluations and closed-loop results.
 RL_RUNS ?= runs/rl

@@ -29,6 +29,14 @@ def to_dataclass[T](cfg: DictConfig | dict[str, Any], schema: type[T], ignore: t
     return OmegaConf.to_object(OmegaConf.merge(OmegaConf.structured(schema), plain))
 
 
+def dotted_value(cfg: dict[str, Any], dotted: str) -> object:
+    """The value at a dotted key of a plain nested config (None where the path does not exist)."""
+    node: object = cfg
+    for part in dotted.split("."):
+        node = node.get(part) if isinstance(node, dict) else None
+    return node
+
+
 def changed_values(old: dict[str, Any], new: dict[str, Any], keys: tuple[str, ...]) -> list[str]:
     """'key.path: old -> new' for every leaf under the (dotted) `keys` whose value differs between two plain
     configs."""
@@ -41,16 +49,11 @@ def changed_values(old: dict[str, Any], new: dict[str, Any], keys: tuple[str, ..
             out[prefix] = value
         return out
 
-    def get(cfg: dict[str, Any], dotted: str) -> object:
-        for part in dotted.split("."):
-            cfg = cfg.get(part) if isinstance(cfg, dict) else None
-        return cfg
-
     before: dict[str, object] = {}
     after: dict[str, object] = {}
     for key in keys:
-        leaves(key, get(old, key), before)
-        leaves(key, get(new, key), after)
+        leaves(key, dotted_value(old, key), before)
+        leaves(key, dotted_value(new, key), after)
     return [
         f"{k}: {before.get(k)} -> {after.get(k)}"
         for k in sorted(before.keys() | after.keys())

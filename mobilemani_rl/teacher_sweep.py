@@ -1,18 +1,21 @@
 """A teacher for every category-skill row of a robot (the paper's teacher table), resumable:
 
     python -m mobilemani_rl.teacher_sweep --robot g1 [--runs runs/teachers] [--out docs/results/teachers]
-        [--categories box laptop] [--skills open] [hydra overrides, e.g. rl.ppo.max_iterations=300]
+        [--categories box laptop] [--skills open] [--skill-iterations pick:3000]
+        [hydra overrides, e.g. rl.ppo.max_iterations=300]
 
 Each row trains one category-level policy on up to `objects_per_policy` of the category's train objects
 (`python -m mobilemani_rl.train robot=<robot> task.object=<category> task.skill=<skill>`) and evaluates it on
 all of the category's train and test objects (`eval_episodes` seeded episodes each). Rows run one after
 another; a row whose evaluation exists is skipped, and an interrupted row resumes from its newest checkpoint
-(training's own resume), so rerunning the same command continues where it stopped. After every row the sweep
-rewrites `<out>/teachers_<robot>.json` and `.md` with every row finished so far, also by earlier runs over
-other rows (per row: test and train success, the warm start's scripted success, samples, wall minutes, the
-command that recreates it; rows below the paper's skill mean with the stage they fall short in), and the
-paper's teacher tables computed on test objects (`rl_by_skill`, `rl_by_category`). Checkpoints stay under
-`--runs`.
+(training's own resume), so rerunning the same command continues where it stopped; a finished row asked for
+more iterations goes on to them, and one asked for other settings stops the sweep before anything trains,
+naming them. `--skill-iterations SKILL:N` gives that skill's rows their own iteration count (holistic pick is
+still learning when 300 end). After every row the sweep rewrites `<out>/teachers_<robot>.json` and `.md` with
+every row finished so far, also by earlier runs over other rows (per row: test and train success, the warm
+start's scripted success, samples, wall minutes, the command that recreates it; rows below the paper's skill
+mean with the stage they fall short in), and the paper's teacher tables computed on test objects
+(`rl_by_skill`, `rl_by_category`). Checkpoints stay under `--runs`.
 """
 
 from __future__ import annotations
@@ -43,7 +46,7 @@ from mobilemani_rl.teacher_tables import (
     object_success,
     write_tables,
 )
-from mobilemani_rl.train import train
+from mobilemani_rl.train import check_run, train
 
 CONF = str(Path(__file__).resolve().parents[1] / "conf")
 EVAL_SEED = 1000  # the seed `python -m mobilemani_rl.train eval_episodes=N` evaluates with
@@ -61,9 +64,17 @@ def rows(categories: list[str] | None = None, skills: list[str] | None = None) -
     ]
 
 
-def row_overrides(robot: str, category: str, skill: str, runs: Path, overrides: list[str]) -> list[str]:
-    """The row's training command (as Hydra overrides); the evaluation's episodes default to 64 per object."""
+ITERATIONS = "rl.ppo.max_iterations="
+
+
+def row_overrides(
+    robot: str, category: str, skill: str, runs: Path, overrides: list[str], iterations: int | None = None
+) -> list[str]:
+    """The row's training command (as Hydra overrides); the evaluation's episodes default to 64 per object,
+    and `iterations` (the skill's own count) replaces any iteration override."""
     default = [] if any(o.startswith("eval_episodes=") for o in overrides) else ["eval_episodes=64"]
+    if iterations is not None:
+        overrides = [*(o for o in overrides if not o.startswith(ITERATIONS)), f"{ITERATIONS}{iterations}"]
     return [
         *default,
         f"robot={robot}",
@@ -72,6 +83,15 @@ def row_overrides(robot: str, category: str, skill: str, runs: Path, overrides: 
         f"run_dir={runs / robot / category / skill}",
         *overrides,
     ]
+
+
+def skill_iterations(text: str) -> tuple[str, int]:
+    """'pick:3000' -> ('pick', 3000), for --skill-iterations."""
+    skill, _, count = text.partition(":")
+    check_choice(skill, ALL_SKILLS, "--skill-iterations skill")
+    if not count.isdigit() or int(count) < 1:
+        raise InputError(f"--skill-iterations {text}: expected SKILL:N with N >= 1, e.g. pick:3000")
+    return skill, int(count)
 
 
 def evaluation_file(run_dir: Path) -> Path | None:
@@ -199,6 +219,7 @@ def main(argv: list[str] | None = None) -> None:
     parser.add_argument("--out", type=Path, default=Path("docs/results/teachers"))
     parser.add_argument("--categories", nargs="+", default=None)
     parser.add_argument("--skills", nargs="+", default=None)
+    parser.add_argument("--skill-iterations", nargs="+", default=[], metavar="SKILL:N")
     # Hydra overrides for every row (conf/rl.yaml), anywhere on the line: category and skill names hold no
     # '=', so `--categories box rl.ppo.max_iterations=300` does not read the override as a category.
     argv = sys.argv[1:] if argv is None else argv
@@ -208,14 +229,21 @@ def main(argv: list[str] | None = None) -> None:
         check_choice(category, CATEGORIES, "category")
     for skill in args.skills or []:
         check_choice(skill, ALL_SKILLS, "skill")
+    per_skill = dict(skill_iterations(text) for text in args.skill_iterations)
     todo = rows(args.categories, args.skills)
-    overrides = [row_overrides(args.robot, c, s, args.runs, hydra_overrides) for c, s in todo]
-    configs = [checked_row_config(o) for o in overrides]  # every row checked before the first one trains
+    overrides = [
+        row_overrides(args.robot, c, s, args.runs, hydra_overrides, per_skill.get(s)) for c, s in todo
+    ]
+    # every row, and every run directory a row resumes, checked before the first one trains
+    configs = [checked_row_config(o) for o in overrides]
+    checks = [check_run(cfg) for cfg in configs]
     records = []
-    for k, ((category, skill), row_args, cfg) in enumerate(zip(todo, overrides, configs, strict=True)):
+    for k, ((category, skill), row_args, cfg, check) in enumerate(
+        zip(todo, overrides, configs, checks, strict=True)
+    ):
         run_dir = Path(cfg.run_dir)
         print(f"[row {k + 1}/{len(todo)}] {args.robot} {category} {skill}: {run_dir}", flush=True)
-        if evaluation_file(run_dir) is None:
+        if check.grown or evaluation_file(run_dir) is None:
             run_row(cfg)
         command = "python -m mobilemani_rl.train " + " ".join(row_args)
         records.append(row_record(args.robot, category, skill, run_dir, command))

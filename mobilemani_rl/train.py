@@ -5,7 +5,8 @@
 
 Rerunning the same command resumes from the run directory's newest checkpoint with its saved config
 (or, before PPO's first checkpoint, from the finished warm start); a finished run
-(result.json present) is left as it is.
+(result.json present) is left as it is, unless asked for more iterations (`rl.ppo.max_iterations`), which it
+goes on to from its newest checkpoint.
 """
 
 from __future__ import annotations
@@ -27,6 +28,8 @@ from mobilemani_rl.rl.run_dir import (
     RESULT,
     WARM_START,
     WARM_START_CHECKPOINT,
+    RunCheck,
+    check_config,
     checkpoints,
     is_complete,
     latest_checkpoint,
@@ -40,6 +43,18 @@ RUN_KEYS = ("task", "env", "rl")
 # where a run computes, not what it learns: a resumed run may change them (each env steps alone, so the
 # physics thread count does not change a trajectory)
 PLACEMENT_KEYS = ("rl.ppo.device", "rl.ppo.torch_threads", "rl.ppo.update_threads", "env.physics.nthread")
+# a budget a run may be given more of: PPO has no schedule tied to the iteration count (its learning rate
+# adapts to the KL divergence), so going on from iteration N is the same run as one asked for more at first
+BUDGET_KEYS = ("rl.ppo.max_iterations",)
+
+
+def _saved_defaults() -> dict:
+    return OmegaConf.to_container(OmegaConf.structured(RLCfg))
+
+
+def check_run(cfg: DictConfig) -> RunCheck:
+    """How `cfg` stands against its run directory, writing nothing; ConfigMismatchError if it cannot go on."""
+    return check_config(Path(cfg.run_dir), cfg, RUN_KEYS, _saved_defaults(), PLACEMENT_KEYS, BUDGET_KEYS)
 
 
 def load_newest_readable(runner: MobileManiRunner, run_dir: Path) -> Path | None:
@@ -57,9 +72,8 @@ def load_newest_readable(runner: MobileManiRunner, run_dir: Path) -> Path | None
 def train(cfg: DictConfig) -> Path:
     ppo = to_dataclass(cfg, RLCfg).check().rl.ppo  # before anything is written
     run_dir = Path(cfg.run_dir)
-    # first: a finished run asked for other settings is an error
-    defaults = OmegaConf.to_container(OmegaConf.structured(RLCfg))
-    save_or_check_config(run_dir, cfg, RUN_KEYS, defaults, PLACEMENT_KEYS)
+    # first: a finished run asked for other settings is an error, for more iterations it goes on
+    save_or_check_config(run_dir, cfg, RUN_KEYS, _saved_defaults(), PLACEMENT_KEYS, BUDGET_KEYS)
     if is_complete(run_dir):
         print(f"{run_dir} is complete ({RESULT} exists); nothing to do")
         return run_dir

@@ -67,6 +67,25 @@ def test_resume_with_another_config_is_refused(tmp_path):
         )
 
 
+def test_a_finished_run_asked_for_more_iterations_goes_on_and_fewer_is_refused(tmp_path, capsys):
+    run_dir = tmp_path / "run"
+    train(compose_rl(["rl/ppo=tiny", f"run_dir={run_dir}", "rl.ppo.max_iterations=2"]))
+    fewer = r"max_iterations: 2 -> 1.*only rl.ppo.max_iterations may grow"
+    with pytest.raises(ConfigMismatchError, match=fewer):
+        train(compose_rl(["rl/ppo=tiny", f"run_dir={run_dir}", "rl.ppo.max_iterations=1"]))
+    train(compose_rl(["rl/ppo=tiny", f"run_dir={run_dir}", "rl.ppo.max_iterations=4"]))
+    out = capsys.readouterr().out
+    assert "max_iterations=4" in out and "resuming" in out and "from model_1.pt (iteration 2 of 4)" in out
+    result = json.loads((run_dir / "result.json").read_text())
+    assert result["iterations"] == 4 and result["samples"] == 4 * 8 * 8
+    assert latest_checkpoint(run_dir).name == "model_3.pt"
+    curve = json.loads((run_dir / "curve.json").read_text())
+    assert [row["iteration"] for row in curve] == [0, 1, 2, 3]  # the first two iterations are kept
+    assert "max_iterations: 4" in (run_dir / "config.yaml").read_text()
+    train(compose_rl(["rl/ppo=tiny", f"run_dir={run_dir}", "rl.ppo.max_iterations=4"]))
+    assert "nothing to do" in capsys.readouterr().out
+
+
 def test_a_run_that_stopped_before_its_first_checkpoint_takes_the_corrected_config(tmp_path):
     run_dir = tmp_path / "run"
     save_or_check_config(

@@ -5,7 +5,7 @@ import json
 import pytest
 
 from mobilemani_rl import teacher_sweep
-from mobilemani_rl.registry import InputError
+from mobilemani_rl.registry import ConfigMismatchError, InputError
 
 TINY = ["rl/ppo=tiny", "objects_per_policy=1", "eval_episodes=1"]
 
@@ -42,6 +42,36 @@ def test_a_row_trains_evaluates_on_test_objects_and_is_skipped_when_done(tmp_pat
     rows = [(r["category"], r["skill"]) for r in json.loads((out / "teachers_g1.json").read_text())]
     assert rows == [("microwave", "open"), ("microwave", "close")]
     assert "2 of 39 rows finished" in (out / "teachers_g1.md").read_text()
+
+
+def test_a_finished_row_goes_on_to_its_skills_iterations_and_refuses_other_settings(tmp_path):
+    runs, out = tmp_path / "runs", tmp_path / "out"
+    args = ["--runs", str(runs), "--out", str(out), *TINY, "--categories", "microwave", "--skills", "open"]
+    teacher_sweep.main(args)  # tiny: 3 iterations
+    run_dir = runs / "g1" / "microwave" / "open"
+    before = {p.name: p.stat().st_mtime for p in run_dir.iterdir()}
+    # more iterations with another setting: refused for the setting before the row goes on
+    with pytest.raises(ConfigMismatchError, match=r"rl.ppo.learning_rate: .* -> 0.5"):
+        teacher_sweep.main([*args, "rl.ppo.learning_rate=0.5", "--skill-iterations", "open:4"])
+    assert {p.name: p.stat().st_mtime for p in run_dir.iterdir()} == before
+    teacher_sweep.main([*args, "--skill-iterations", "open:4", "pick:9"])
+    [row] = json.loads((out / "teachers_g1.json").read_text())
+    assert row["samples"] == 4 * 8 * 8 and row["command"].endswith("rl.ppo.max_iterations=4")
+    assert (run_dir / "eval_model_3_1000.json").is_file()  # the row's final checkpoint, evaluated
+
+
+def test_a_skills_own_iterations_replace_the_sweeps_and_bad_ones_name_the_option(tmp_path):
+    common = ["rl.ppo.max_iterations=300", "rl.ppo.warm_start.episodes=128"]
+    row = teacher_sweep.row_overrides("g1", "holistic", "pick", tmp_path, common, iterations=3000)
+    assert row[-2:] == ["rl.ppo.warm_start.episodes=128", "rl.ppo.max_iterations=3000"]
+    assert "rl.ppo.max_iterations=300" not in row
+    assert teacher_sweep.skill_iterations("pick:3000") == ("pick", 3000)
+    with pytest.raises(InputError, match="unknown --skill-iterations skill 'pik'"):
+        teacher_sweep.main(["--runs", str(tmp_path), "--skill-iterations", "pik:3000"])
+    for bad in ("pick", "pick:0", "pick:many"):
+        with pytest.raises(InputError, match=f"--skill-iterations {bad}: expected SKILL:N with N >= 1"):
+            teacher_sweep.main(["--runs", str(tmp_path), "--skill-iterations", bad])
+    assert not any(tmp_path.iterdir())
 
 
 def record(test: float, train: float, scripted: float | None, objects: dict[str, float]) -> dict:

@@ -8,13 +8,15 @@ warm start (`warm_start.pt`, written atomically once it is done) when PPO has sa
 from __future__ import annotations
 
 import copy
+import os
 import re
+from dataclasses import dataclass, field
 from pathlib import Path
 
 from omegaconf import DictConfig, OmegaConf
 
 from mobilemani_rl.registry import ConfigMismatchError
-from mobilemani_rl.schema import changed_values
+from mobilemani_rl.schema import changed_values, dotted_value
 
 CONFIG = "config.yaml"
 RESULT = "result.json"
@@ -41,39 +43,96 @@ def is_complete(run_dir: Path) -> bool:
     return (run_dir / RESULT).exists()
 
 
+@dataclass
+class RunCheck:
+    """How a run directory's saved config stands against the config asked for now."""
+
+    path: Path  # the saved config
+    fresh: bool  # nothing to resume: the asked config is simply (re)written
+    saved: DictConfig | None = None  # the saved config as stored (None when fresh)
+    moved: list[str] = field(default_factory=list)  # placement changes: reported, the saved values kept
+    grown: dict[str, object] = field(default_factory=dict)  # budgets raised: dotted key -> the larger value
+
+
+def check_config(
+    run_dir: Path,
+    cfg: DictConfig,
+    keys: tuple[str, ...],
+    defaults: dict | None = None,
+    placement: tuple[str, ...] = (),
+    budgets: tuple[str, ...] = (),
+) -> RunCheck:
+    """Compare a run directory's saved config with `cfg` under `keys`, writing nothing; a change the run
+    cannot take raises ConfigMismatchError naming each changed key. A run that stopped before its first
+    checkpoint (or its finished warm start) has nothing to resume, so any config is fine. A key the saved
+    config lacks (it was added to the schema later) counts as its value in `defaults`, the value the run
+    was trained with. The dotted `placement` keys say where the run computes, not what it learns: a run
+    started on a GPU node can go on on a laptop. The dotted `budgets` (an iteration count) may only grow:
+    the run, finished or not, goes on to the larger value."""
+    path = run_dir / CONFIG
+    if not path.exists() or (
+        latest_checkpoint(run_dir) is None and not (run_dir / WARM_START_CHECKPOINT).exists()
+    ):
+        return RunCheck(path, fresh=True)
+    stored = OmegaConf.load(path)
+    saved = OmegaConf.to_container(OmegaConf.merge(OmegaConf.create(defaults or {}), stored))
+    wanted = OmegaConf.to_container(cfg, resolve=True)
+    moved = changed_values(saved, wanted, placement)
+    grown = {
+        key: dotted_value(wanted, key)
+        for key in budgets
+        if _larger(dotted_value(wanted, key), dotted_value(saved, key))
+    }
+    saved, wanted = _without(saved, (*placement, *grown)), _without(wanted, (*placement, *grown))
+    per_key = {k: changed_values(saved, wanted, (k,)) for k in keys}
+    if differing := [k for k, changes in per_key.items() if changes]:
+        changes = [change for k in differing for change in per_key[k]]
+        raise ConfigMismatchError(
+            f"{run_dir} was started with a different {', '.join(differing)} config ({'; '.join(changes)}); "
+            f"resume with the saved {path}{_budget_hint(budgets)} or choose another run_dir"
+        )
+    return RunCheck(path, fresh=False, saved=stored, moved=moved, grown=grown)
+
+
 def save_or_check_config(
     run_dir: Path,
     cfg: DictConfig,
     keys: tuple[str, ...],
     defaults: dict | None = None,
     placement: tuple[str, ...] = (),
+    budgets: tuple[str, ...] = (),
 ) -> None:
-    """Store the (resolved) config of a new run; for an existing run, require the same values under `keys`. A
-    run that stopped before its first checkpoint (or its finished warm start) has nothing to resume, so its
-    config is simply replaced. A key the saved config lacks (it was added to the schema later) counts as its
-    value in `defaults`, the value the run was trained with. The dotted `placement` keys say where the run
-    computes, not what it learns: a change there is reported and the run resumes (a run started on a GPU node
-    can go on on a laptop); the saved config keeps its first values."""
-    path = run_dir / CONFIG
-    current = OmegaConf.create(OmegaConf.to_container(cfg, resolve=True))
-    if not path.exists() or (
-        latest_checkpoint(run_dir) is None and not (run_dir / WARM_START_CHECKPOINT).exists()
-    ):
+    """`check_config`, then store what it allows: a new run's config, or a raised budget (a finished run is
+    finished no more). Placement changes are reported and the saved config keeps its first values."""
+    check = check_config(run_dir, cfg, keys, defaults, placement, budgets)
+    if check.fresh:
         run_dir.mkdir(parents=True, exist_ok=True)
-        OmegaConf.save(current, path)
+        _save_atomic(OmegaConf.create(OmegaConf.to_container(cfg, resolve=True)), check.path)
         return
-    saved = OmegaConf.merge(OmegaConf.create(defaults or {}), OmegaConf.load(path))
-    saved, wanted = OmegaConf.to_container(saved), OmegaConf.to_container(current)
-    if moved := changed_values(saved, wanted, placement):
-        print(f"resuming {run_dir} with another placement ({'; '.join(moved)})")
-    saved, wanted = _without(saved, placement), _without(wanted, placement)
-    per_key = {k: changed_values(saved, wanted, (k,)) for k in keys}
-    if differing := [k for k, changes in per_key.items() if changes]:
-        changes = [change for k in differing for change in per_key[k]]
-        raise ConfigMismatchError(
-            f"{run_dir} was started with a different {', '.join(differing)} config ({'; '.join(changes)}); "
-            f"resume with the saved {path} or choose another run_dir"
-        )
+    if check.moved:
+        print(f"resuming {run_dir} with another placement ({'; '.join(check.moved)})")
+    if check.grown:
+        # the result first: cut short between the two, the run is unfinished and the same command continues it
+        (run_dir / RESULT).unlink(missing_ok=True)
+        for key, value in check.grown.items():
+            OmegaConf.update(check.saved, key, value)
+        _save_atomic(check.saved, check.path)
+        print(f"continuing {run_dir} to {', '.join(f'{k}={v}' for k, v in check.grown.items())}")
+
+
+def _larger(wanted: object, saved: object) -> bool:
+    numbers = (int, float)
+    return isinstance(wanted, numbers) and isinstance(saved, numbers) and wanted > saved
+
+
+def _budget_hint(budgets: tuple[str, ...]) -> str:
+    return f" (only {', '.join(budgets)} may grow)" if budgets else ""
+
+
+def _save_atomic(cfg: DictConfig, path: Path) -> None:
+    tmp = path.with_suffix(path.suffix + ".tmp")
+    OmegaConf.save(cfg, tmp)
+    os.replace(tmp, path)
 
 
 def _without(cfg: dict, dotted_keys: tuple[str, ...]) -> dict:
