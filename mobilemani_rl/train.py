@@ -28,6 +28,7 @@ from mobilemani_rl.rl.run_dir import (
     RESULT,
     WARM_START,
     WARM_START_CHECKPOINT,
+    ConfigRules,
     RunCheck,
     check_config,
     checkpoints,
@@ -39,22 +40,22 @@ from mobilemani_rl.rl.runner import MobileManiRunner
 from mobilemani_rl.rl.warm_start import warm_start
 from mobilemani_rl.schema import to_dataclass
 
-RUN_KEYS = ("task", "env", "rl")
 # where a run computes, not what it learns: a resumed run may change them (each env steps alone, so the
 # physics thread count does not change a trajectory)
 PLACEMENT_KEYS = ("rl.ppo.device", "rl.ppo.torch_threads", "rl.ppo.update_threads", "env.physics.nthread")
-# a budget a run may be given more of: PPO has no schedule tied to the iteration count (its learning rate
-# adapts to the KL divergence), so going on from iteration N is the same run as one asked for more at first
-BUDGET_KEYS = ("rl.ppo.max_iterations",)
-
-
-def _saved_defaults() -> dict:
-    return OmegaConf.to_container(OmegaConf.structured(RLCfg))
+RUN_RULES = ConfigRules(
+    keys=("task", "env", "rl"),
+    defaults=OmegaConf.to_container(OmegaConf.structured(RLCfg)),
+    placement=PLACEMENT_KEYS,
+    # a run may be given more iterations: PPO has no schedule tied to their count (the learning rate adapts
+    # to the KL divergence), so going on from iteration N is the same run as one asked for more at first
+    budgets=("rl.ppo.max_iterations",),
+)
 
 
 def check_run(cfg: DictConfig) -> RunCheck:
     """How `cfg` stands against its run directory, writing nothing; ConfigMismatchError if it cannot go on."""
-    return check_config(Path(cfg.run_dir), cfg, RUN_KEYS, _saved_defaults(), PLACEMENT_KEYS, BUDGET_KEYS)
+    return check_config(Path(cfg.run_dir), cfg, RUN_RULES)
 
 
 def load_newest_readable(runner: MobileManiRunner, run_dir: Path) -> Path | None:
@@ -73,7 +74,7 @@ def train(cfg: DictConfig) -> Path:
     ppo = to_dataclass(cfg, RLCfg).check().rl.ppo  # before anything is written
     run_dir = Path(cfg.run_dir)
     # first: a finished run asked for other settings is an error, for more iterations it goes on
-    save_or_check_config(run_dir, cfg, RUN_KEYS, _saved_defaults(), PLACEMENT_KEYS, BUDGET_KEYS)
+    save_or_check_config(run_dir, cfg, RUN_RULES)
     if is_complete(run_dir):
         print(f"{run_dir} is complete ({RESULT} exists); nothing to do")
         return run_dir

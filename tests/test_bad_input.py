@@ -160,14 +160,17 @@ def test_rl_evaluation_names_its_keys():
 
 def test_a_changed_run_names_each_changed_key(tmp_path):
     from mobilemani_rl.registry import ConfigMismatchError
-    from mobilemani_rl.rl.run_dir import save_or_check_config
+    from mobilemani_rl.rl.run_dir import ConfigRules, save_or_check_config
 
-    run_dir = tmp_path / "run"
-    save_or_check_config(run_dir, compose_root("rl", ["rl/ppo=tiny", f"run_dir={run_dir}"]), ("rl",))
+    run_dir, rules = tmp_path / "run", ConfigRules(("rl",))
+    save_or_check_config(run_dir, compose_root("rl", ["rl/ppo=tiny", f"run_dir={run_dir}"]), rules)
     (run_dir / "model_2.pt").touch()  # it has something to resume
-    changed = compose_root("rl", ["rl/ppo=tiny", f"run_dir={run_dir}", "rl.ppo.max_iterations=5"])
-    with pytest.raises(ConfigMismatchError, match=r"\(rl.ppo.max_iterations: 3 -> 5\)"):
-        save_or_check_config(run_dir, changed, ("rl",))
+    changed = compose_root(
+        "rl", ["rl/ppo=tiny", f"run_dir={run_dir}", "rl.ppo.learning_rate=0.5", "rl.ppo.num_envs=16"]
+    )
+    each = r"\(rl.ppo.learning_rate: 0.001 -> 0.5; rl.ppo.num_envs: 8 -> 16\)"
+    with pytest.raises(ConfigMismatchError, match=each):
+        save_or_check_config(run_dir, changed, rules)
 
 
 def test_a_resumed_run_may_move_devices_but_not_change_what_it_learns(tmp_path, capsys):
@@ -175,11 +178,11 @@ def test_a_resumed_run_may_move_devices_but_not_change_what_it_learns(tmp_path, 
     started on a GPU node goes on on a laptop; the saved config keeps the first values, and any learning
     setting is refused."""
     from mobilemani_rl.registry import ConfigMismatchError
-    from mobilemani_rl.rl.run_dir import save_or_check_config
+    from mobilemani_rl.rl.run_dir import ConfigRules, save_or_check_config
     from mobilemani_rl.train import PLACEMENT_KEYS
 
-    run_dir = tmp_path / "run"
-    save_or_check_config(run_dir, compose_root("rl", ["rl/ppo=tiny", f"run_dir={run_dir}"]), ("rl",))
+    run_dir, rules = tmp_path / "run", ConfigRules(("env", "rl"), placement=PLACEMENT_KEYS)
+    save_or_check_config(run_dir, compose_root("rl", ["rl/ppo=tiny", f"run_dir={run_dir}"]), rules)
     (run_dir / "model_2.pt").touch()  # it has something to resume
     moved = [
         "rl/ppo=tiny",
@@ -188,14 +191,14 @@ def test_a_resumed_run_may_move_devices_but_not_change_what_it_learns(tmp_path, 
         "rl.ppo.update_threads=16",
         "env.physics.nthread=1",
     ]
-    save_or_check_config(run_dir, compose_root("rl", moved), ("env", "rl"), placement=PLACEMENT_KEYS)
+    save_or_check_config(run_dir, compose_root("rl", moved), rules)
     moves = capsys.readouterr().out
     assert "rl.ppo.device: cpu -> cuda; rl.ppo.update_threads: 0 -> 16" in moves
     assert "env.physics.nthread: 0 -> 1" in moves
     assert OmegaConf.load(run_dir / "config.yaml").rl.ppo.device == "cpu"
     changed = compose_root("rl", [*moved, "rl.ppo.learning_rate=0.5"])
     with pytest.raises(ConfigMismatchError, match=r"\(rl.ppo.learning_rate: 0.001 -> 0.5\)"):
-        save_or_check_config(run_dir, changed, ("env", "rl"), placement=PLACEMENT_KEYS)
+        save_or_check_config(run_dir, changed, rules)
 
 
 def test_a_run_saved_before_a_key_existed_resumes_with_its_default(tmp_path):
@@ -203,20 +206,22 @@ def test_a_run_saved_before_a_key_existed_resumes_with_its_default(tmp_path):
     value and refuses another, naming it."""
     from mobilemani_rl.registry import ConfigMismatchError
     from mobilemani_rl.rl.config import RLCfg
-    from mobilemani_rl.rl.run_dir import save_or_check_config
+    from mobilemani_rl.rl.run_dir import ConfigRules, save_or_check_config
 
     run_dir = tmp_path / "run"
-    save_or_check_config(run_dir, compose_root("rl", ["rl/ppo=tiny", f"run_dir={run_dir}"]), ("rl",))
+    save_or_check_config(
+        run_dir, compose_root("rl", ["rl/ppo=tiny", f"run_dir={run_dir}"]), ConfigRules(("rl",))
+    )
     saved = OmegaConf.load(run_dir / "config.yaml")
     del saved.rl.ppo["precision"]  # what an older version wrote
     OmegaConf.save(saved, run_dir / "config.yaml")
     (run_dir / "model_2.pt").touch()  # it has something to resume
-    defaults = OmegaConf.to_container(OmegaConf.structured(RLCfg))
+    rules = ConfigRules(("rl",), defaults=OmegaConf.to_container(OmegaConf.structured(RLCfg)))
     resumed = compose_root("rl", ["rl/ppo=tiny", f"run_dir={run_dir}"])
-    save_or_check_config(run_dir, resumed, ("rl",), defaults)
+    save_or_check_config(run_dir, resumed, rules)
     changed = compose_root("rl", ["rl/ppo=tiny", f"run_dir={run_dir}", "rl.ppo.precision=bf16"])
     with pytest.raises(ConfigMismatchError, match=r"\(rl.ppo.precision: fp32 -> bf16\)"):
-        save_or_check_config(run_dir, changed, ("rl",), defaults)
+        save_or_check_config(run_dir, changed, rules)
 
 
 def test_an_unknown_video_encoder_is_refused_by_its_key():

@@ -17,7 +17,7 @@ from hydra import compose, initialize_config_dir
 from mobilemani_rl.eval import evaluate
 from mobilemani_rl.registry import ConfigMismatchError
 from mobilemani_rl.rl.factory import policy_objects
-from mobilemani_rl.rl.run_dir import latest_checkpoint, save_or_check_config
+from mobilemani_rl.rl.run_dir import ConfigRules, latest_checkpoint, save_or_check_config
 from mobilemani_rl.train import train
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -89,7 +89,9 @@ def test_a_finished_run_asked_for_more_iterations_goes_on_and_fewer_is_refused(t
 def test_a_run_that_stopped_before_its_first_checkpoint_takes_the_corrected_config(tmp_path):
     run_dir = tmp_path / "run"
     save_or_check_config(
-        run_dir, compose_rl(["rl/ppo=tiny", f"run_dir={run_dir}", "rl.ppo.learning_rate=-1"]), ("rl",)
+        run_dir,
+        compose_rl(["rl/ppo=tiny", f"run_dir={run_dir}", "rl.ppo.learning_rate=-1"]),
+        ConfigRules(("rl",)),
     )  # what a run that crashed at start leaves behind
     train(compose_rl(["rl/ppo=tiny", f"run_dir={run_dir}", "rl.ppo.max_iterations=1"]))
     assert (run_dir / "result.json").exists()

@@ -43,6 +43,23 @@ def is_complete(run_dir: Path) -> bool:
     return (run_dir / RESULT).exists()
 
 
+@dataclass(frozen=True)
+class ConfigRules:
+    """What may differ between a run directory's saved config and the config a rerun asks for.
+
+    Every leaf under the dotted `keys` must match. A key the saved config lacks (it was added to the schema
+    later) counts as its value in `defaults`, the value the run was trained with. The dotted `placement` keys
+    say where the run computes, not what it learns: a run started on a GPU node can go on on a laptop. The
+    dotted `budgets` (an iteration count) may only grow: the run, finished or not, goes on to the larger
+    value.
+    """
+
+    keys: tuple[str, ...]
+    defaults: dict | None = None
+    placement: tuple[str, ...] = ()
+    budgets: tuple[str, ...] = ()
+
+
 @dataclass
 class RunCheck:
     """How a run directory's saved config stands against the config asked for now."""
@@ -54,57 +71,40 @@ class RunCheck:
     grown: dict[str, object] = field(default_factory=dict)  # budgets raised: dotted key -> the larger value
 
 
-def check_config(
-    run_dir: Path,
-    cfg: DictConfig,
-    keys: tuple[str, ...],
-    defaults: dict | None = None,
-    placement: tuple[str, ...] = (),
-    budgets: tuple[str, ...] = (),
-) -> RunCheck:
-    """Compare a run directory's saved config with `cfg` under `keys`, writing nothing; a change the run
+def check_config(run_dir: Path, cfg: DictConfig, rules: ConfigRules) -> RunCheck:
+    """Compare a run directory's saved config with `cfg` under `rules`, writing nothing; a change the run
     cannot take raises ConfigMismatchError naming each changed key. A run that stopped before its first
-    checkpoint (or its finished warm start) has nothing to resume, so any config is fine. A key the saved
-    config lacks (it was added to the schema later) counts as its value in `defaults`, the value the run
-    was trained with. The dotted `placement` keys say where the run computes, not what it learns: a run
-    started on a GPU node can go on on a laptop. The dotted `budgets` (an iteration count) may only grow:
-    the run, finished or not, goes on to the larger value."""
+    checkpoint (or its finished warm start) has nothing to resume, so any config is fine."""
     path = run_dir / CONFIG
     if not path.exists() or (
         latest_checkpoint(run_dir) is None and not (run_dir / WARM_START_CHECKPOINT).exists()
     ):
         return RunCheck(path, fresh=True)
     stored = OmegaConf.load(path)
-    saved = OmegaConf.to_container(OmegaConf.merge(OmegaConf.create(defaults or {}), stored))
+    saved = OmegaConf.to_container(OmegaConf.merge(OmegaConf.create(rules.defaults or {}), stored))
     wanted = OmegaConf.to_container(cfg, resolve=True)
-    moved = changed_values(saved, wanted, placement)
+    moved = changed_values(saved, wanted, rules.placement)
     grown = {
         key: dotted_value(wanted, key)
-        for key in budgets
+        for key in rules.budgets
         if _larger(dotted_value(wanted, key), dotted_value(saved, key))
     }
-    saved, wanted = _without(saved, (*placement, *grown)), _without(wanted, (*placement, *grown))
-    per_key = {k: changed_values(saved, wanted, (k,)) for k in keys}
+    free = (*rules.placement, *grown)
+    saved, wanted = _without(saved, free), _without(wanted, free)
+    per_key = {k: changed_values(saved, wanted, (k,)) for k in rules.keys}
     if differing := [k for k, changes in per_key.items() if changes]:
         changes = [change for k in differing for change in per_key[k]]
         raise ConfigMismatchError(
             f"{run_dir} was started with a different {', '.join(differing)} config ({'; '.join(changes)}); "
-            f"resume with the saved {path}{_budget_hint(budgets)} or choose another run_dir"
+            f"resume with the saved {path}{_budget_hint(rules.budgets)} or choose another run_dir"
         )
     return RunCheck(path, fresh=False, saved=stored, moved=moved, grown=grown)
 
 
-def save_or_check_config(
-    run_dir: Path,
-    cfg: DictConfig,
-    keys: tuple[str, ...],
-    defaults: dict | None = None,
-    placement: tuple[str, ...] = (),
-    budgets: tuple[str, ...] = (),
-) -> None:
+def save_or_check_config(run_dir: Path, cfg: DictConfig, rules: ConfigRules) -> None:
     """`check_config`, then store what it allows: a new run's config, or a raised budget (a finished run is
     finished no more). Placement changes are reported and the saved config keeps its first values."""
-    check = check_config(run_dir, cfg, keys, defaults, placement, budgets)
+    check = check_config(run_dir, cfg, rules)
     if check.fresh:
         run_dir.mkdir(parents=True, exist_ok=True)
         _save_atomic(OmegaConf.create(OmegaConf.to_container(cfg, resolve=True)), check.path)
