@@ -14,8 +14,8 @@ naming them. `--skill-iterations SKILL:N` gives that skill's rows their own iter
 still learning when 300 end). After every row the sweep rewrites `<out>/teachers_<robot>.json` and `.md` with
 every row finished so far, also by earlier runs over other rows (per row: test and train success, the warm
 start's scripted success, samples, wall minutes, the command that recreates it; rows below the paper's skill
-mean with the stage they fall short in), and the paper's teacher tables computed on test objects
-(`rl_by_skill`, `rl_by_category`). Checkpoints stay under `--runs`.
+mean with the stage they fall short in), and the paper's teacher tables computed from those rows' test
+objects (`rl_by_skill`, `rl_by_category`). Checkpoints stay under `--runs`.
 """
 
 from __future__ import annotations
@@ -42,8 +42,6 @@ from mobilemani_rl.tables import pct
 from mobilemani_rl.teacher_tables import (
     PAPER_BY_SKILL,
     ROBOTS,
-    newest_results,
-    object_success,
     write_tables,
 )
 from mobilemani_rl.train import check_run, train
@@ -185,6 +183,16 @@ def merged_records(path: Path, new: list[dict]) -> list[dict]:
     return [by_row[row] for row in rows() if row in by_row]
 
 
+def test_success(records: list[dict]) -> dict[tuple[str, str, str], float]:
+    """(robot, object id, skill) -> success of the finished rows on their test objects: the paper tables come
+    from the same rows as the per-row table, also those an earlier sweep trained under another --runs."""
+    return {
+        (r["robot"], object_id, r["skill"]): rate
+        for r in records
+        for object_id, rate in r["test_object_success"].items()
+    }
+
+
 def rows_markdown(records: list[dict], total: int) -> str:
     lines = [
         f"{len(records)} of {total} rows finished. Success (%) over the category's test objects (not trained "
@@ -252,7 +260,7 @@ def main(argv: list[str] | None = None) -> None:
         everything = merged_records(rows_file, records)
         write_json_atomic(rows_file, everything)
         (args.out / f"teachers_{args.robot}.md").write_text(rows_markdown(everything, len(rows())))
-        write_tables(object_success(newest_results(args.runs), split="test"), args.out)
+        write_tables(test_success(everything), args.out)
 
 
 if __name__ == "__main__":

@@ -38,10 +38,13 @@ def test_a_row_trains_evaluates_on_test_objects_and_is_skipped_when_done(tmp_pat
     teacher_sweep.main([*names_first, *TINY])
     assert {p.name: p.stat().st_mtime for p in run_dir.iterdir()} == before
     assert json.loads((out / "teachers_g1.json").read_text()) == records
-    teacher_sweep.main([*args[:-1], "close"])  # another row: the files keep the first one
+    # another row, trained under other runs: the files keep the first one, the paper tables too
+    teacher_sweep.main(["--runs", str(tmp_path / "other_runs"), *args[2:-1], "close"])
     rows = [(r["category"], r["skill"]) for r in json.loads((out / "teachers_g1.json").read_text())]
     assert rows == [("microwave", "open"), ("microwave", "close")]
     assert "2 of 39 rows finished" in (out / "teachers_g1.md").read_text()
+    by_skill = (out / "rl_by_skill.md").read_text()
+    assert "| Open | - |" not in by_skill and "| Close | - |" not in by_skill
 
 
 def test_a_finished_row_goes_on_to_its_skills_iterations_and_refuses_other_settings(tmp_path):
