@@ -121,8 +121,7 @@ def save_or_check_config(run_dir: Path, cfg: DictConfig, rules: ConfigRules) -> 
 
 
 def _larger(wanted: object, saved: object) -> bool:
-    numbers = (int, float)
-    return isinstance(wanted, numbers) and isinstance(saved, numbers) and wanted > saved
+    return isinstance(wanted, int) and isinstance(saved, int) and wanted > saved
 
 
 def _budget_hint(budgets: tuple[str, ...]) -> str:
