@@ -64,11 +64,14 @@ class ConfigRules:
 class RunCheck:
     """How a run directory's saved config stands against the config asked for now."""
 
-    path: Path  # the saved config
-    fresh: bool  # nothing to resume: the asked config is simply (re)written
-    saved: DictConfig | None = None  # the saved config as stored (None when fresh)
+    saved: DictConfig | None = None  # the saved config as stored; None: nothing to resume
     moved: list[str] = field(default_factory=list)  # placement changes: reported, the saved values kept
     grown: dict[str, object] = field(default_factory=dict)  # budgets raised: dotted key -> the larger value
+
+    @property
+    def fresh(self) -> bool:
+        """Nothing to resume: the asked config is simply (re)written."""
+        return self.saved is None
 
 
 def check_config(run_dir: Path, cfg: DictConfig, rules: ConfigRules) -> RunCheck:
@@ -79,7 +82,7 @@ def check_config(run_dir: Path, cfg: DictConfig, rules: ConfigRules) -> RunCheck
     if not path.exists() or (
         latest_checkpoint(run_dir) is None and not (run_dir / WARM_START_CHECKPOINT).exists()
     ):
-        return RunCheck(path, fresh=True)
+        return RunCheck()
     stored = OmegaConf.load(path)
     saved = OmegaConf.to_container(OmegaConf.merge(OmegaConf.create(rules.defaults or {}), stored))
     wanted = OmegaConf.to_container(cfg, resolve=True)
@@ -98,7 +101,7 @@ def check_config(run_dir: Path, cfg: DictConfig, rules: ConfigRules) -> RunCheck
             f"{run_dir} was started with a different {', '.join(differing)} config ({'; '.join(changes)}); "
             f"resume with the saved {path}{_budget_hint(rules.budgets)} or choose another run_dir"
         )
-    return RunCheck(path, fresh=False, saved=stored, moved=moved, grown=grown)
+    return RunCheck(saved=stored, moved=moved, grown=grown)
 
 
 def save_or_check_config(run_dir: Path, cfg: DictConfig, rules: ConfigRules) -> None:
@@ -107,7 +110,7 @@ def save_or_check_config(run_dir: Path, cfg: DictConfig, rules: ConfigRules) -> 
     check = check_config(run_dir, cfg, rules)
     if check.fresh:
         run_dir.mkdir(parents=True, exist_ok=True)
-        _save_atomic(OmegaConf.create(OmegaConf.to_container(cfg, resolve=True)), check.path)
+        _save_atomic(OmegaConf.create(OmegaConf.to_container(cfg, resolve=True)), run_dir / CONFIG)
         return
     if check.moved:
         print(f"resuming {run_dir} with another placement ({'; '.join(check.moved)})")
@@ -116,7 +119,7 @@ def save_or_check_config(run_dir: Path, cfg: DictConfig, rules: ConfigRules) -> 
         (run_dir / RESULT).unlink(missing_ok=True)
         for key, value in check.grown.items():
             OmegaConf.update(check.saved, key, value)
-        _save_atomic(check.saved, check.path)
+        _save_atomic(check.saved, run_dir / CONFIG)
         print(f"continuing {run_dir} to {', '.join(f'{k}={v}' for k, v in check.grown.items())}")
 
 
