@@ -16,6 +16,7 @@ from __future__ import annotations
 
 import json
 import shutil
+import zipfile
 from pathlib import Path
 
 import torch
@@ -37,6 +38,7 @@ EMA_WEIGHTS = "ema.safetensors"
 DATASET = "dataset.json"
 STATE = "trainer_state.json"
 PREFIX = "step_"
+TRAINING_STATE = ("*.bin", "*.pkl")  # accelerate's torch.save archives: optimizer, scheduler, random states
 
 
 def save_artifacts(
@@ -79,6 +81,17 @@ def unreadable_weights(directory: Path) -> str | None:
             with safe_open(str(path), "pt") as weights:
                 weights.keys()
         except Exception as err:  # safetensors raises its own error types for every kind of damage
+            return f"{path}: {type(err).__name__}: {err}"
+    return None
+
+
+def unreadable_training_state(directory: Path) -> str | None:
+    """Why one of accelerate's training-state archives cannot be opened, naming it; None when each is a whole
+    zip archive (torch.save's format keeps its index at the end, so a copy cut short loses it)."""
+    for path in sorted(p for pattern in TRAINING_STATE for p in directory.glob(pattern)):
+        try:
+            zipfile.ZipFile(path).close()
+        except (zipfile.BadZipFile, OSError) as err:
             return f"{path}: {type(err).__name__}: {err}"
     return None
 

@@ -11,6 +11,7 @@ from __future__ import annotations
 
 import json
 import os
+import pickle
 import time
 from dataclasses import asdict, dataclass
 from pathlib import Path
@@ -38,6 +39,7 @@ from mobilemani_vla.checkpoint import (
     publish,
     save_artifacts,
     save_gathered_weights,
+    unreadable_training_state,
     unreadable_weights,
 )
 from mobilemani_vla.config import ROOT_ONLY, VLACfg, vla_cfg_from_yaml
@@ -64,8 +66,8 @@ def _batches(loader: DataLoader):
 
 
 def _resume_point(cfg: VLACfg, output_dir: Path) -> Path | None:
-    """The newest readable checkpoint to continue from (an unreadable one is named and skipped); one of
-    another model/input/diffusion setup is refused."""
+    """The newest readable checkpoint to continue from (one with unreadable weights or training state is named
+    and skipped); one of another model/input/diffusion setup is refused."""
     found = finished_checkpoints(output_dir) if cfg.train.resume else []
     if not found:
         return None
@@ -77,7 +79,7 @@ def _resume_point(cfg: VLACfg, output_dir: Path) -> Path | None:
             "train.output_dir or set train.resume=false"
         )
     for checkpoint in reversed(found):
-        if (why := unreadable_weights(checkpoint)) is None:
+        if (why := unreadable_weights(checkpoint) or unreadable_training_state(checkpoint)) is None:
             return checkpoint
         print(f"skipping an unreadable checkpoint: {why}", flush=True)
     raise InputError(
@@ -169,7 +171,11 @@ def train(cfg: VLACfg) -> TrainResult:
 
     start = 0
     if resume_from is not None:
-        accelerator.load_state(str(resume_from))
+        try:
+            accelerator.load_state(str(resume_from))
+        except pickle.UnpicklingError as err:  # accelerate loads with weights_only=True: not only tensors
+            reason = str(err).strip().splitlines()[0]  # torch's refusal goes on for a page of advice
+            raise InputError(f"refusing the training state in {resume_from}: {reason}") from err
         start = checkpoint_step(resume_from)
         if ema is not None:
             load_ema(ema, resume_from)

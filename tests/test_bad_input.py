@@ -264,7 +264,10 @@ def test_a_deleted_metadata_file_is_named(tmp_path, deleted, named):
         open_dataset_metadata("synthetic/g1", root)
 
 
-def test_a_damaged_vla_checkpoint_is_named_and_training_resumes_from_the_previous_one(tmp_path, capsys):
+@pytest.mark.parametrize("damaged_name", ["model.safetensors", "optimizer.bin", "random_states_0.pkl"])
+def test_a_damaged_vla_checkpoint_is_named_and_training_resumes_from_the_previous_one(
+    damaged_name, tmp_path, capsys
+):
     import json
 
     import torch
@@ -281,9 +284,12 @@ def test_a_damaged_vla_checkpoint_is_named_and_training_resumes_from_the_previou
         (directory / "config.yaml").write_text(vla_cfg_to_yaml(cfg))
         (directory / "trainer_state.json").write_text(json.dumps({"step": step}))
         save_file({"w": torch.zeros(64)}, str(directory / "model.safetensors"))
-    damaged = checkpoint_dir(tmp_path, 2) / "model.safetensors"
+        for state in ("optimizer.bin", "random_states_0.pkl"):  # accelerate's torch.save archives
+            torch.save({"step": torch.tensor(step), "w": torch.zeros(64)}, directory / state)
+    damaged = checkpoint_dir(tmp_path, 2) / damaged_name
     damaged.write_bytes(damaged.read_bytes()[:40])  # a copy cut short
-    with pytest.raises(ValueError, match=f"unreadable checkpoint weights {damaged}"):
-        check_weights(damaged.parent)
+    if damaged.suffix == ".safetensors":  # evaluation needs only the weights
+        with pytest.raises(ValueError, match=f"unreadable checkpoint weights {damaged}"):
+            check_weights(damaged.parent)
     assert _resume_point(cfg, tmp_path) == checkpoint_dir(tmp_path, 1)
     assert f"skipping an unreadable checkpoint: {damaged}" in capsys.readouterr().out

@@ -9,6 +9,7 @@ import pytest
 import torch
 from data_helpers import tiny_cfg
 from hydra import compose, initialize_config_dir
+from payload import PlantedCode
 
 from mobilemani_data.collect import collect
 from mobilemani_data.teachers import build_teacher, teachable_combinations
@@ -40,12 +41,7 @@ def trained_run(tmp_path_factory) -> tuple[Path, str, str, str]:
     return runs_dir, "g1", "test/box", "open"
 
 
-class _RunsCode:
-    def __reduce__(self):
-        return (exec, ("open('PWNED', 'w').write('x')",))
-
-
-def test_loader_finds_loads_and_refuses_code(trained_run, tmp_path, monkeypatch):
+def test_loader_finds_loads_and_refuses_code(trained_run, tmp_path):
     runs_dir, robot, object_id, skill = trained_run
     run_dir = teacher_run_dir(runs_dir, robot, object_id, skill)
     checkpoint = find_teacher_checkpoint(runs_dir, robot, object_id, skill)
@@ -60,8 +56,7 @@ def test_loader_finds_loads_and_refuses_code(trained_run, tmp_path, monkeypatch)
     crafted = tmp_path / "run"
     shutil.copytree(run_dir, crafted)
     bad = latest_checkpoint(crafted)
-    bad.write_bytes(pickle.dumps({"model_state_dict": _RunsCode()}))
-    monkeypatch.chdir(tmp_path)
+    bad.write_bytes(pickle.dumps({"model_state_dict": PlantedCode(tmp_path / "PWNED")}))
     with pytest.raises(ValueError, match=str(bad)):
         load_teacher(bad, num_envs=1)
     assert not (tmp_path / "PWNED").exists()

@@ -8,6 +8,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 import torch
+from payload import PlantedCode
 from safetensors.torch import load_file
 from transformers import PaliGemmaForConditionalGeneration
 
@@ -43,11 +44,6 @@ def checkpoint(tmp_path_factory) -> Path:
     return train(cfg).checkpoint
 
 
-class _RunsCode:
-    def __reduce__(self):
-        return (print, ("pickled code ran",))
-
-
 def test_fsdp_full_state_dict_checkpoint_loads_and_runs_no_code(checkpoint, tmp_path):
     fsdp = shutil.copytree(checkpoint, tmp_path / "fsdp")
     weights = load_file(fsdp / WEIGHTS)
@@ -57,9 +53,10 @@ def test_fsdp_full_state_dict_checkpoint_loads_and_runs_no_code(checkpoint, tmp_
     _, model, _, _ = load_checkpoint(fsdp)
     assert all(torch.equal(model.state_dict()[k], v) for k, v in weights.items())
 
-    (fsdp / FSDP_WEIGHTS).write_bytes(pickle.dumps({"x": _RunsCode()}))
+    (fsdp / FSDP_WEIGHTS).write_bytes(pickle.dumps({"x": PlantedCode(tmp_path / "PWNED")}))
     with pytest.raises(pickle.UnpicklingError):  # weights_only=True refuses anything but tensors
         load_checkpoint(fsdp)
+    assert not (tmp_path / "PWNED").exists()
     (fsdp / FSDP_WEIGHTS).unlink()
     (fsdp / FSDP_SHARDS).mkdir()
     with pytest.raises(FileNotFoundError, match="accelerate merge-weights"):

@@ -8,6 +8,7 @@ import numpy as np
 import pytest
 import torch
 from hydra import compose, initialize_config_dir
+from payload import PlantedCode
 
 from mobilemani_data import schema
 from mobilemani_rl.schema import to_dataclass
@@ -177,6 +178,16 @@ def test_checkpoint_resume_and_policy(dataset_root, tmp_path):
         policy.predict_action_chunk({"head_rgb": images["head_rgb"]}, "open box", vectors)
     with pytest.raises(KeyError, match="object.goal_point_base"):
         policy.predict_action_chunk(images, "open box", {schema.STATE: vectors[schema.STATE]})
+
+
+def test_a_training_state_holding_more_than_tensors_is_refused_on_resume(dataset_root, tmp_path):
+    out, marker = tmp_path / "run", tmp_path / "PWNED"
+    first = train(tiny_cfg(dataset_root, out, ["train.steps=1", "train.diagnose_every=0"]))
+    # a whole torch.save archive (so not skipped as damaged) whose pickle runs code when loaded
+    torch.save({"state": PlantedCode(marker)}, first.checkpoint / "optimizer.bin")
+    with pytest.raises(ValueError, match=f"refusing the training state in {first.checkpoint}"):
+        train(tiny_cfg(dataset_root, out, ["train.steps=2", "train.diagnose_every=0"]))
+    assert not marker.exists()
 
 
 @pytest.mark.slow
