@@ -154,7 +154,10 @@ def load_checkpoint(
     """The evaluated model: the moving-average weights when the run kept them, else the trained ones."""
     directory = Path(directory)
     if not (directory / STATE).is_file():
-        raise MissingFileError(f"{directory} is not a complete MobileManiVLA checkpoint (no {STATE})")
+        # a training run's output directory (or its checkpoints/) is the usual mistake: name what it holds
+        found = finished_checkpoints(directory.parent if directory.name == "checkpoints" else directory)
+        hint = f"; the newest of the {len(found)} it holds is {found[-1]}" if found else ""
+        raise MissingFileError(f"{directory} is not a complete MobileManiVLA checkpoint (no {STATE}){hint}")
     check_weights(directory)
     cfg = vla_cfg_from_yaml((directory / "config.yaml").read_text())
     tokenizer = load_tokenizer(directory / "tokenizer")

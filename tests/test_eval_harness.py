@@ -265,6 +265,12 @@ def test_tiny_vla_runs_the_protocol_end_to_end(tmp_path):
     with pytest.raises(ValueError, match="7-d actions but robot=xhand takes 18-d"):
         evaluate(xhand)
     assert not (tmp_path / "xhand").exists()
+    # The training run's directory instead of one of its checkpoints: the error names the newest checkpoint.
+    for given in (checkpoint.parent.parent, checkpoint.parent):
+        mistaken = eval_cfg(tmp_path / "run_dir", [f"policy.checkpoint={given}", "name=tiny_vla"])
+        with pytest.raises(FileNotFoundError, match=f"the newest of the 1 it holds is {checkpoint}$"):
+            evaluate(mistaken)
+    assert not (tmp_path / "run_dir").exists()
 
 
 def test_workers_run_blocks_in_parallel_with_the_same_episodes(tmp_path, capsys):
