@@ -26,12 +26,11 @@ from mobilemani_rl.cli import entry_point
 from mobilemani_rl.envs.mobilemani_env import MobileManiEnv
 from mobilemani_rl.io import write_json_atomic
 from mobilemani_rl.progress import Progress
-from mobilemani_rl.registry import MissingFileError
 from mobilemani_rl.rl.config import EvalRlCfg, RLCfg
 from mobilemani_rl.rl.factory import policy_objects
 from mobilemani_rl.rollout import run_first_episodes
 from mobilemani_rl.schema import to_dataclass
-from mobilemani_rl.teacher import TeacherPolicy, load_teacher, run_config
+from mobilemani_rl.teacher import TeacherPolicy, check_checkpoint_file, load_teacher, run_config
 from mobilemani_rl.video import HeadCameraRecorder
 
 
@@ -44,8 +43,7 @@ def evaluation_objects(task_object: str) -> dict[str, list[str]]:
 
 def evaluate(checkpoint: Path, episodes: int, seed: int, video_episodes: int = 0) -> dict:
     """Success and reward breakdown of a checkpoint over `episodes` seeded episodes per evaluated object."""
-    if not checkpoint.is_file():
-        raise MissingFileError(f"checkpoint {checkpoint} does not exist")
+    check_checkpoint_file(checkpoint)
     run_cfg = run_config(checkpoint)
     run = to_dataclass(run_cfg, RLCfg)
     env_cfg = run.env_cfg()

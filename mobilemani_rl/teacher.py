@@ -58,6 +58,17 @@ def run_config(checkpoint: Path) -> DictConfig:
     return OmegaConf.load(path)
 
 
+def check_checkpoint_file(checkpoint: Path) -> None:
+    """A teacher checkpoint is a model_*.pt file; a run directory given instead is named with its newest."""
+    if checkpoint.is_file():
+        return
+    if checkpoint.is_dir():
+        newest = latest_checkpoint(checkpoint)
+        hint = f"its newest checkpoint is {newest}" if newest else "it holds no model_*.pt"
+        raise MissingFileError(f"teacher checkpoint {checkpoint} is a directory; {hint}")
+    raise MissingFileError(f"teacher checkpoint {checkpoint} does not exist")
+
+
 def load_teacher(
     checkpoint: Path,
     env: BatchedEnv | None = None,
@@ -67,8 +78,7 @@ def load_teacher(
     """The teacher's env and deterministic actor. The actor acts in `env` when given, else in a new env built
     from `cfg` (default: the run's own config) with `num_envs` envs; the teacher was trained with that
     config's physics and action scales. It runs on the CPU beside MuJoCo, wherever it was trained."""
-    if not checkpoint.is_file():
-        raise MissingFileError(f"teacher checkpoint {checkpoint} does not exist")
+    check_checkpoint_file(checkpoint)
     runner = build_runner(
         cfg if cfg is not None else run_config(checkpoint),
         run_dir=None,

@@ -158,6 +158,22 @@ def test_rl_evaluation_names_its_keys():
         EvalRlCfg(checkpoint="model_1.pt", episodes=0).check()
 
 
+def test_a_run_directory_given_as_teacher_checkpoint_names_its_newest(tmp_path):
+    from mobilemani_rl.teacher import check_checkpoint_file
+
+    run_dir = tmp_path / "run"
+    run_dir.mkdir()
+    with pytest.raises(FileNotFoundError, match=f"{run_dir} is a directory; it holds no model_"):
+        check_checkpoint_file(run_dir)
+    for iteration in (50, 100):
+        (run_dir / f"model_{iteration}.pt").touch()
+    with pytest.raises(FileNotFoundError, match=f"its newest checkpoint is {run_dir / 'model_100.pt'}$"):
+        check_checkpoint_file(run_dir)
+    with pytest.raises(FileNotFoundError, match="model_300.pt does not exist"):
+        check_checkpoint_file(run_dir / "model_300.pt")
+    check_checkpoint_file(run_dir / "model_50.pt")
+
+
 def test_a_changed_run_names_each_changed_key(tmp_path):
     from mobilemani_rl.registry import ConfigMismatchError
     from mobilemani_rl.rl.run_dir import ConfigRules, save_or_check_config
