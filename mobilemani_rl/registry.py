@@ -2,12 +2,20 @@
 
 from __future__ import annotations
 
+import re
 from collections.abc import Iterable, Mapping
 
 
 class InputError(ValueError):
     """Bad input the user can fix (a config value, a missing file): the entry points print its message alone,
     without a traceback (mobilemani_rl.cli.entry_point)."""
+
+
+def first_sentence(err: BaseException) -> str:
+    """A library error's first sentence, for a one-line message: torch's weights_only refusal goes on for a
+    page of advice, with terminal colour codes."""
+    text = re.sub(r"\x1b\[[0-9;]*m", "", str(err)).strip()
+    return text.splitlines()[0].split(". ")[0] if text else type(err).__name__
 
 
 class MissingFileError(InputError, FileNotFoundError):

@@ -28,7 +28,7 @@ from tqdm import tqdm
 from transformers import PreTrainedTokenizerBase
 
 from mobilemani_rl.cli import entry_point
-from mobilemani_rl.registry import InputError
+from mobilemani_rl.registry import InputError, first_sentence
 from mobilemani_rl.schema import to_dataclass
 from mobilemani_vla.augment import augment_images
 from mobilemani_vla.checkpoint import (
@@ -174,8 +174,7 @@ def train(cfg: VLACfg) -> TrainResult:
         try:
             accelerator.load_state(str(resume_from))
         except pickle.UnpicklingError as err:  # accelerate loads with weights_only=True: not only tensors
-            reason = str(err).strip().splitlines()[0]  # torch's refusal goes on for a page of advice
-            raise InputError(f"refusing the training state in {resume_from}: {reason}") from err
+            raise InputError(f"refusing the training state in {resume_from}: {first_sentence(err)}") from err
         start = checkpoint_step(resume_from)
         if ema is not None:
             load_ema(ema, resume_from)

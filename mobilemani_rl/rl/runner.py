@@ -18,7 +18,7 @@ from rsl_rl.utils.logger import Logger
 from tqdm import tqdm
 
 from mobilemani_rl.io import write_json_atomic
-from mobilemani_rl.registry import InputError
+from mobilemani_rl.registry import InputError, first_sentence
 from mobilemani_rl.rl.run_dir import CURVE
 
 SUCCESS_KEY = "/episode/success_flag"
@@ -164,10 +164,8 @@ class MobileManiRunner(OnPolicyRunner):
         try:
             loaded = torch.load(path, weights_only=True, map_location=map_location or self.device)
         except Exception as err:  # pickle, zip or safety errors all mean: not a checkpoint we can trust
-            # the first line: torch's weights_only refusal goes on for a page of advice
-            reason = str(err).strip().splitlines()[0] if str(err).strip() else ""
             raise InputError(
-                f"cannot load teacher checkpoint {path}: {type(err).__name__}: {reason}"
+                f"cannot load teacher checkpoint {path}: {type(err).__name__}: {first_sentence(err)}"
             ) from err
         if self.alg.load(loaded, load_cfg, strict):
             self.current_learning_iteration = loaded["iter"]
