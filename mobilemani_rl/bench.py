@@ -21,6 +21,8 @@ import mujoco
 import mujoco.batch
 import numpy as np
 
+from mobilemani_rl.assets.robots import ROBOTS
+from mobilemani_rl.cli import count, entry_point, seconds
 from mobilemani_rl.envs.config import EnvCfg, TaskCfg
 from mobilemani_rl.envs.mobilemani_env import MobileManiEnv
 
@@ -109,13 +111,14 @@ def print_report(benchmark: str, results: list[dict], header: str, row: str) -> 
     print(json.dumps({"benchmark": benchmark, "results": results}, indent=2))
 
 
+@entry_point
 def main(argv: list[str] | None = None) -> list[dict]:
     parser = argparse.ArgumentParser(
         description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter
     )
-    parser.add_argument("--robots", nargs="+", default=["g1", "xhand"])
-    parser.add_argument("--envs", nargs="+", type=int, default=[64, 256, 1024])
-    parser.add_argument("--seconds", type=float, default=6.0, help="timing budget per (robot, envs) pair")
+    parser.add_argument("--robots", nargs="+", default=["g1", "xhand"], choices=sorted(ROBOTS))
+    parser.add_argument("--envs", nargs="+", type=count, default=[64, 256, 1024])
+    parser.add_argument("--seconds", type=seconds, default=6.0, help="timing budget per (robot, envs) pair")
     args = parser.parse_args(argv)
     results = [bench_task(r, n, args.seconds) for r in args.robots for n in args.envs]
     print_report(

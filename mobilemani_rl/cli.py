@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import argparse
 import functools
 import sys
 from collections.abc import Callable
@@ -10,8 +11,9 @@ from mobilemani_rl.registry import InputError
 
 
 def entry_point[T](main: Callable[..., T]) -> Callable[..., T]:
-    """Wrap a Hydra task function: an InputError prints `error: <message>` and exits with status 2 (Hydra
-    would print its traceback); any other exception keeps its traceback, as it is a bug to report."""
+    """Wrap an entry point's main (a Hydra task function or an argparse main): an InputError prints
+    `error: <message>` and exits with status 2, as argparse does for its own errors (Hydra would print the
+    traceback); any other exception keeps its traceback, as it is a bug to report."""
 
     @functools.wraps(main)
     def run(*args, **kwargs) -> T:
@@ -22,3 +24,20 @@ def entry_point[T](main: Callable[..., T]) -> Callable[..., T]:
             sys.exit(2)
 
     return run
+
+
+def count(text: str) -> int:
+    """argparse type of a count (envs, episodes, pixels, iterations): an integer of at least 1. argparse's
+    error names the option: `argument --episodes: must be at least 1, got 0`."""
+    value = int(text)
+    if value < 1:
+        raise argparse.ArgumentTypeError(f"must be at least 1, got {value}")
+    return value
+
+
+def seconds(text: str) -> float:
+    """argparse type of a time budget: a number of seconds above 0."""
+    value = float(text)
+    if not value > 0:
+        raise argparse.ArgumentTypeError(f"must be above 0, got {text}")
+    return value

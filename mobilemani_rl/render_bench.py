@@ -15,6 +15,8 @@ from collections.abc import Callable
 
 import mujoco
 
+from mobilemani_rl.assets.robots import ROBOTS
+from mobilemani_rl.cli import count, entry_point, seconds
 from mobilemani_rl.envs.config import EnvCfg, TaskCfg
 from mobilemani_rl.envs.mobilemani_env import MobileManiEnv
 from mobilemani_rl.render.config import CameraRenderCfg
@@ -60,13 +62,14 @@ def bench_size(model: mujoco.MjModel, data: mujoco.MjData, cfg: CameraRenderCfg,
     }
 
 
+@entry_point
 def main(argv: list[str] | None = None) -> None:
     parser = argparse.ArgumentParser(prog="python -m mobilemani_rl.render_bench", description=__doc__)
     parser.add_argument("--scene", default="tabletop/02")
     parser.add_argument("--object", default="test/box")
-    parser.add_argument("--robot", default="g1")
-    parser.add_argument("--sizes", type=int, nargs="+", default=[224, 520])
-    parser.add_argument("--seconds", type=float, default=5.0)
+    parser.add_argument("--robot", default="g1", choices=sorted(ROBOTS))
+    parser.add_argument("--sizes", type=count, nargs="+", default=[224, 520])
+    parser.add_argument("--seconds", type=seconds, default=5.0)
     parser.add_argument("--shadows", action="store_true")
     parser.add_argument("--multisampling", action="store_true")
     args = parser.parse_args(argv)

@@ -14,7 +14,9 @@ import numpy as np
 from PIL import Image, ImageDraw
 
 from mobilemani_rl.assets.objects import OBJECTS, ObjectModel
+from mobilemani_rl.assets.robots import ROBOTS
 from mobilemani_rl.assets.scenes.placements import PLACEMENTS, Placement, setting_of
+from mobilemani_rl.cli import count, entry_point
 from mobilemani_rl.envs.config import EnvCfg, TaskCfg
 from mobilemani_rl.envs.mobilemani_env import MobileManiEnv
 from mobilemani_rl.render import CameraRenderCfg, CameraRenderer
@@ -64,8 +66,8 @@ def build_sheet(robot: str, size: int, scene_ids: Sequence[str] | None = None) -
 
 def configure(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--out", required=True, help="PNG path to write")
-    parser.add_argument("--robot", default="g1")
-    parser.add_argument("--size", type=int, default=160, help="pixels per camera view")
+    parser.add_argument("--robot", default="g1", choices=sorted(ROBOTS))
+    parser.add_argument("--size", type=count, default=160, help="pixels per camera view")
     parser.add_argument("--scenes", nargs="*", help="scene ids (default: all 100)")
 
 
@@ -77,6 +79,7 @@ def run(args: argparse.Namespace) -> None:
     print(f"wrote {args.out} ({sheet.shape[1]}x{sheet.shape[0]})")
 
 
+@entry_point
 def main(argv: list[str] | None = None) -> None:
     parser = argparse.ArgumentParser(prog="python -m mobilemani_rl.scene_sheet", description=__doc__)
     configure(parser)

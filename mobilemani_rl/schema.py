@@ -7,10 +7,18 @@ it never imports them).
 
 from __future__ import annotations
 
+from pathlib import Path
 from typing import Any
 
 from hydra.core.config_store import ConfigStore
 from omegaconf import DictConfig, OmegaConf
+
+CONF_DIR = Path(__file__).resolve().parents[1] / "conf"  # the Hydra configs every entry point composes
+
+
+def group_options(group: str) -> list[str]:
+    """The options of a config group (`conf/<group>/*.yaml`), for a command line's choices."""
+    return sorted(p.stem for p in (CONF_DIR / group).glob("*.yaml"))
 
 
 def register_schema(name: str, schema: type) -> None:

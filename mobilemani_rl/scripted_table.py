@@ -19,6 +19,8 @@ from pathlib import Path
 import numpy as np
 
 from mobilemani_rl.assets.objects import CATEGORIES, catalog_ids, get_object
+from mobilemani_rl.assets.robots import ROBOTS
+from mobilemani_rl.cli import count, entry_point
 from mobilemani_rl.envs.config import EnvCfg, TaskCfg
 from mobilemani_rl.envs.mobilemani_env import MobileManiEnv
 from mobilemani_rl.scripted import ScriptedPolicy
@@ -84,12 +86,13 @@ def markdown(results: dict, robots: list[str]) -> str:
     return "\n".join(lines)
 
 
+@entry_point
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--robots", nargs="+", default=["g1", "xhand"])
+    parser.add_argument("--robots", nargs="+", default=["g1", "xhand"], choices=sorted(ROBOTS))
     parser.add_argument("--categories", nargs="+", default=list(CATEGORIES))
-    parser.add_argument("--per-category", type=int, default=3)
-    parser.add_argument("--episodes", type=int, default=4)
+    parser.add_argument("--per-category", type=count, default=3)
+    parser.add_argument("--episodes", type=count, default=4)
     parser.add_argument("--seed", type=int, default=0)
     parser.add_argument("--json", type=Path, help="also write the JSON here")
     args = parser.parse_args()

@@ -37,7 +37,7 @@ from mobilemani_rl.io import write_json_atomic
 from mobilemani_rl.registry import InputError, check_choice
 from mobilemani_rl.rl.config import RLCfg
 from mobilemani_rl.rl.run_dir import RESULT, WARM_START, is_complete, latest_checkpoint
-from mobilemani_rl.schema import to_dataclass
+from mobilemani_rl.schema import CONF_DIR, to_dataclass
 from mobilemani_rl.tables import pct
 from mobilemani_rl.teacher_tables import (
     PAPER_BY_SKILL,
@@ -46,7 +46,6 @@ from mobilemani_rl.teacher_tables import (
 )
 from mobilemani_rl.train import check_run, train
 
-CONF = str(Path(__file__).resolve().parents[1] / "conf")
 EVAL_SEED = 1000  # the seed `python -m mobilemani_rl.train eval_episodes=N` evaluates with
 WALL = "sweep_seconds.json"  # wall seconds of a row, summed over its finished or Ctrl-C'd attempts
 WEAKEST = 2  # test objects named in a low row's diagnosis
@@ -102,7 +101,7 @@ def evaluation_file(run_dir: Path) -> Path | None:
 
 def checked_row_config(overrides: list[str]) -> DictConfig:
     """The row's composed config, every value checked (before any row trains)."""
-    with initialize_config_dir(config_dir=CONF, version_base="1.3"):
+    with initialize_config_dir(config_dir=str(CONF_DIR), version_base="1.3"):
         cfg = compose(config_name="rl", overrides=overrides)
     if to_dataclass(cfg, RLCfg).check().eval_episodes < 1:
         raise InputError("eval_episodes must be >= 1: every row is evaluated on its test objects")
@@ -222,7 +221,7 @@ def main(argv: list[str] | None = None) -> None:
     parser = argparse.ArgumentParser(
         description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter
     )
-    parser.add_argument("--robot", default="g1")
+    parser.add_argument("--robot", default="g1", choices=sorted(ROBOTS))
     parser.add_argument("--runs", type=Path, default=Path("runs/teachers"))
     parser.add_argument("--out", type=Path, default=Path("docs/results/teachers"))
     parser.add_argument("--categories", nargs="+", default=None)

@@ -20,6 +20,8 @@ from collections.abc import Callable
 
 import torch
 
+from mobilemani_rl.cli import count, entry_point
+from mobilemani_rl.schema import group_options
 from mobilemani_vla.config import CAMERAS, VLACfg, compose_vla_cfg
 from mobilemani_vla.data import fit_normalizer, open_data
 from mobilemani_vla.model import MobileManiVLA, build_model
@@ -151,17 +153,23 @@ def meta_counts() -> dict:
     return {"model": "paligemma2_3b", "device": "meta", "params": parameter_counts(model)}
 
 
+@entry_point
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--models", nargs="+", default=["tiny", "small"])
-    parser.add_argument("--batch", type=int, default=8)
-    parser.add_argument("--steps", type=int, default=3, help="timed training steps per model")
-    parser.add_argument("--runs", type=int, default=3, help="timed inference calls per model")
+    parser.add_argument("--models", nargs="+", default=["tiny", "small"], choices=group_options("vla/model"))
+    parser.add_argument("--batch", type=count, default=8)
+    parser.add_argument("--steps", type=count, default=3, help="timed training steps per model")
+    parser.add_argument("--runs", type=count, default=3, help="timed inference calls per model")
     parser.add_argument("--cameras", type=int, default=4, choices=range(1, 5))
     parser.add_argument(
         "--dataset", help="a MobileManiDataset root: also time training on it, cache on and off"
     )
-    parser.add_argument("--dataset-model", default="cpu", help="model config for --dataset")
+    parser.add_argument(
+        "--dataset-model",
+        default="cpu",
+        choices=group_options("vla/model"),
+        help="model config for --dataset",
+    )
     args = parser.parse_args()
     results = [bench(m, args.batch, args.steps, args.runs, args.cameras) for m in args.models]
     on_data = bench_dataset(args.dataset, args.dataset_model, args.batch, args.steps) if args.dataset else []

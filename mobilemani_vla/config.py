@@ -5,14 +5,13 @@ conf/vla/train, conf/experiment) change the defaults. A composed config converts
 from __future__ import annotations
 
 from dataclasses import dataclass, field
-from pathlib import Path
 
 from hydra import compose, initialize_config_dir
 from omegaconf import OmegaConf
 
 from mobilemani_rl.envs.config import RobotChoiceCfg
 from mobilemani_rl.registry import InputError, check_positive
-from mobilemani_rl.schema import register_schema, to_dataclass
+from mobilemani_rl.schema import CONF_DIR, register_schema, to_dataclass
 from mobilemani_vla.augment import AugmentCfg
 from mobilemani_vla.dit import DIT_PRESETS, GELU_APPROXIMATIONS
 
@@ -184,7 +183,6 @@ class VLARootCfg(VLACfg):
     task: RobotChoiceCfg = field(default_factory=RobotChoiceCfg)
 
 
-CONF_DIR = Path(__file__).resolve().parents[1] / "conf"
 ROOT_ONLY = ("task",)  # VLARootCfg's keys that VLACfg leaves out
 register_schema("vla_schema", VLARootCfg)
 

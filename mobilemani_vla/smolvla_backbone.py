@@ -18,6 +18,9 @@ from __future__ import annotations
 import argparse
 from pathlib import Path
 
+from mobilemani_rl.cli import count, entry_point
+from mobilemani_rl.registry import InputError
+
 # SmolVLM's special tokens, as its processor and SmolVLA look them up on the tokenizer.
 IMAGE_TOKENS = {
     "fake_image_token": "<fake_token_around_image>",
@@ -46,7 +49,7 @@ def write_smolvlm_backbone(
     from transformers.models.smolvlm import SmolVLMImageProcessor, SmolVLMProcessor, SmolVLMVideoProcessor
 
     if image_size % (2 * patch_size):
-        raise ValueError(f"image_size {image_size} must be a multiple of 2 x patch_size {patch_size}")
+        raise InputError(f"--image-size {image_size} must be a multiple of 2 x patch_size {patch_size}")
     out = Path(out)
     # Byte-level BPE without merges: every string encodes (one token per UTF-8 byte), no vocabulary to learn.
     alphabet = sorted(pre_tokenizers.ByteLevel.alphabet())
@@ -101,14 +104,15 @@ def write_smolvlm_backbone(
     return out
 
 
+@entry_point
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawTextHelpFormatter)
     parser.add_argument("out", type=Path, help="directory to write (pass it as --policy.vlm_model_name)")
-    parser.add_argument("--hidden-size", type=int, default=256)
-    parser.add_argument("--num-layers", type=int, default=4)
-    parser.add_argument("--vision-hidden-size", type=int, default=128)
-    parser.add_argument("--vision-layers", type=int, default=2)
-    parser.add_argument("--image-size", type=int, default=128)
+    parser.add_argument("--hidden-size", type=count, default=256)
+    parser.add_argument("--num-layers", type=count, default=4)
+    parser.add_argument("--vision-hidden-size", type=count, default=128)
+    parser.add_argument("--vision-layers", type=count, default=2)
+    parser.add_argument("--image-size", type=count, default=128)
     args = parser.parse_args()
     out = write_smolvlm_backbone(
         args.out,

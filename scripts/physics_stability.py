@@ -14,6 +14,7 @@ import json
 
 import numpy as np
 
+from mobilemani_rl.cli import count
 from mobilemani_rl.envs.config import EnvCfg, PhysicsCfg, TaskCfg
 from mobilemani_rl.envs.mobilemani_env import MobileManiEnv
 from mobilemani_rl.rollout import first_episode_success
@@ -64,8 +65,8 @@ def main() -> None:
     parser = argparse.ArgumentParser(
         description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter
     )
-    parser.add_argument("--envs", type=int, default=32)
-    parser.add_argument("--substeps", nargs="+", type=int, default=[2, 3, 4, 6])
+    parser.add_argument("--envs", type=count, default=32)
+    parser.add_argument("--substeps", nargs="+", type=count, default=[2, 3, 4, 6])
     args = parser.parse_args()
     rows = [measure(*task, s, args.envs) for s in args.substeps for task in TASKS]
     print(

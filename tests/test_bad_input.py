@@ -110,6 +110,45 @@ def test_entry_points_end_bad_input_with_one_line_and_keep_tracebacks_for_bugs(t
 
 
 @pytest.mark.parametrize(
+    ("module", "argv", "message"),
+    [
+        ("mobilemani_rl.render_bench", ["--sizes", "0"], "argument --sizes: must be at least 1, got 0"),
+        ("mobilemani_rl.render_bench", ["--seconds", "0"], "argument --seconds: must be above 0, got 0"),
+        ("mobilemani_rl.render_bench", ["--object", "nope/0000"], "error: unknown object 'nope/0000'"),
+        ("mobilemani_rl.bench", ["--robots", "g1", "g2"], "argument --robots: invalid choice: 'g2'"),
+        ("mobilemani_rl.bench", ["--envs", "many"], "argument --envs: invalid count value: 'many'"),
+        (
+            "mobilemani_rl.rl.bench",
+            ["--presets", "fast"],
+            "argument --presets: invalid choice: 'fast'",
+        ),
+        ("mobilemani_rl.teacher_sweep", ["--robot", "g2"], "argument --robot: invalid choice: 'g2'"),
+        (
+            "mobilemani_rl.scene_sheet",
+            ["--out", "x.png", "--size", "-5"],
+            "argument --size: must be at least 1",
+        ),
+        (
+            "mobilemani_rl.assets.__main__",
+            ["preview", "--per-category", "0"],
+            "--per-category: must be at least 1",
+        ),
+    ],
+)
+def test_command_line_tools_name_the_bad_option(module, argv, message, capsys, tmp_path, monkeypatch):
+    """The argparse tools (benchmarks, sheets, sweeps) end bad input as the Hydra entry points do: exit 2 and
+    one message naming the option and its valid values, before anything runs."""
+    import importlib
+
+    monkeypatch.chdir(tmp_path)
+    main = importlib.import_module(module).main
+    with pytest.raises(SystemExit) as stop:
+        main(argv)
+    assert stop.value.code == 2 and message in capsys.readouterr().err
+    assert not any(tmp_path.iterdir())
+
+
+@pytest.mark.parametrize(
     ("override", "named"),
     [
         ("rl.ppo.num_envs=0", "rl.ppo.num_envs=0"),

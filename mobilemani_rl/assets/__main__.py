@@ -12,6 +12,7 @@ from collections.abc import Callable
 from pathlib import Path
 
 from mobilemani_rl.assets.objects.catalog import CATALOG, CATEGORIES, SPLITS
+from mobilemani_rl.cli import count, entry_point
 
 
 def _configure_list(parser: argparse.ArgumentParser) -> None:
@@ -31,8 +32,8 @@ def _run_list(args: argparse.Namespace) -> None:
 
 def _configure_preview(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--out", type=Path, default=Path("outputs/objects_preview.png"))
-    parser.add_argument("--per-category", type=int, default=3)
-    parser.add_argument("--size", type=int, default=200, help="tile size in pixels")
+    parser.add_argument("--per-category", type=count, default=3)
+    parser.add_argument("--size", type=count, default=200, help="tile size in pixels")
     parser.add_argument("--seed", type=int, default=0, help="which sample objects")
 
 
@@ -50,6 +51,7 @@ COMMANDS: dict[
 }
 
 
+@entry_point
 def main(argv: list[str] | None = None) -> None:
     parser = argparse.ArgumentParser(
         prog="python -m mobilemani_rl.assets", description=__doc__.splitlines()[0]

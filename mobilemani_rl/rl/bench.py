@@ -15,23 +15,22 @@ from __future__ import annotations
 
 import argparse
 import time
-from pathlib import Path
 
 import numpy as np
 from hydra import compose, initialize_config_dir
 
+from mobilemani_rl.assets.robots import ROBOTS
 from mobilemani_rl.bench import interleaved_rates, print_report, raw_physics_replay
+from mobilemani_rl.cli import count, entry_point
 from mobilemani_rl.rl.config import RLCfg, update_precision
 from mobilemani_rl.rl.factory import build_runner
-from mobilemani_rl.schema import to_dataclass
-
-CONF = str(Path(__file__).resolve().parents[2] / "conf")
+from mobilemani_rl.schema import CONF_DIR, group_options, to_dataclass
 
 
 def bench_preset(preset: str, robot: str, iterations: int, variant: str = "-") -> dict:
     extra = [] if variant == "-" else variant.split()  # "-": the preset alone, as the report prints it
     overrides = [f"rl/ppo={preset}", f"robot={robot}", *extra]
-    with initialize_config_dir(config_dir=CONF, version_base="1.3"):
+    with initialize_config_dir(config_dir=str(CONF_DIR), version_base="1.3"):
         cfg = compose(config_name="rl", overrides=overrides)
     ppo = to_dataclass(cfg, RLCfg).rl.ppo
     runner = build_runner(cfg, run_dir=None)
@@ -59,13 +58,14 @@ def bench_preset(preset: str, robot: str, iterations: int, variant: str = "-") -
     }
 
 
+@entry_point
 def main(argv: list[str] | None = None) -> list[dict]:
     parser = argparse.ArgumentParser(
         description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter
     )
-    parser.add_argument("--presets", nargs="+", default=["cpu", "paper"])
-    parser.add_argument("--robots", nargs="+", default=["g1", "xhand"])
-    parser.add_argument("--iterations", type=int, default=3)
+    parser.add_argument("--presets", nargs="+", default=["cpu", "paper"], choices=group_options("rl/ppo"))
+    parser.add_argument("--robots", nargs="+", default=["g1", "xhand"], choices=sorted(ROBOTS))
+    parser.add_argument("--iterations", type=count, default=3)
     parser.add_argument("--variants", nargs="+", default=["-"])
     args = parser.parse_args(argv)
     results = [
