@@ -8,7 +8,7 @@ from mobilemani_data.config import TeacherCfg
 from mobilemani_data.recorder import Policy
 from mobilemani_rl.envs.config import EnvCfg, TaskCfg
 from mobilemani_rl.envs.mobilemani_env import MobileManiEnv
-from mobilemani_rl.registry import MissingFileError, check_choice
+from mobilemani_rl.registry import check_choice
 from mobilemani_rl.scripted import ScriptedPolicy
 from mobilemani_rl.tasks import Combination, recording_env_cfg
 
@@ -46,27 +46,16 @@ def teachable_combinations(cfg: TeacherCfg, combos: list[Combination]) -> tuple[
     such teacher run instead of one per combination."""
     if cfg.kind != "ppo":
         return combos, []
-    from mobilemani_rl.teacher import find_teacher_checkpoint, trained_success
+    from mobilemani_rl.teacher import find_every_teacher, trained_success
 
-    tasks = sorted({(c.robot, c.object_id, c.skill) for c in combos})
-    missing, weak_runs = [], {}
-    for robot, object_id, skill in tasks:
-        try:
-            run_dir = find_teacher_checkpoint(cfg.runs_dir, robot, object_id, skill).parent
-        except MissingFileError:
-            missing.append(f"{object_id} {skill}")
-            continue
+    checkpoints = find_every_teacher(
+        cfg.runs_dir, ((c.robot, c.object_id, c.skill) for c in combos), "teacher.runs_dir"
+    )
+    weak_runs = {}
+    for task, checkpoint in checkpoints.items():
+        run_dir = checkpoint.parent
         if (rate := trained_success(run_dir)) is not None and rate < cfg.min_train_success:
-            weak_runs[(robot, object_id, skill)] = f"{run_dir} trained to success {rate:.2f}"
-    if missing:
-        shown = ", ".join(missing[:4]) + (", ..." if len(missing) > 4 else "")
-        raise MissingFileError(
-            f"no PPO teacher in teacher.runs_dir={cfg.runs_dir} for {len(missing)} of {len(tasks)} "
-            f"object-skill tasks ({shown}): each needs a run <runs_dir>/<robot>/<object>/<skill> or its "
-            "category's <runs_dir>/<robot>/<category>/<skill>. `make teachers ROBOT=<robot>` trains every "
-            "category's into runs/teachers (then teacher.runs_dir=runs/teachers); or collect fewer "
-            "(subset.categories=[...], subset.skills=[...])"
-        )
+            weak_runs[task] = f"{run_dir} trained to success {rate:.2f}"
     kept = [c for c in combos if (c.robot, c.object_id, c.skill) not in weak_runs]
     notes = [
         f"left out: {run} < teacher.min_train_success={cfg.min_train_success} (lower it, e.g. "

@@ -8,6 +8,7 @@ Evaluation (`mobilemani_rl.eval`), data collection (`mobilemani_data.teachers`) 
 from __future__ import annotations
 
 import json
+from collections.abc import Iterable
 from pathlib import Path
 
 import numpy as np
@@ -42,6 +43,29 @@ def find_teacher_checkpoint(runs_dir: str | Path, robot: str, object_id: str, sk
         f"one with python -m mobilemani_rl.train robot={robot} task.object={object_id} or "
         f"task.object={category_name} task.skill={skill})"
     )
+
+
+def find_every_teacher(
+    runs_dir: str | Path, tasks: Iterable[tuple[str, str, str]], key: str
+) -> dict[tuple[str, str, str], Path]:
+    """Each (robot, object, skill) task's teacher checkpoint, looked up before a long run starts: missing
+    ones stop it with one error naming them all (`key`: the setting that gave `runs_dir`), not midway."""
+    found, missing = {}, []
+    for task in sorted(set(tasks)):
+        try:
+            found[task] = find_teacher_checkpoint(runs_dir, *task)
+        except MissingFileError:
+            missing.append(f"{task[1]} {task[2]}")
+    if missing:
+        shown = ", ".join(missing[:4]) + (", ..." if len(missing) > 4 else "")
+        raise MissingFileError(
+            f"no PPO teacher in {key}={runs_dir} for {len(missing)} of {len(found) + len(missing)} "
+            f"object-skill tasks ({shown}): each needs a run <runs_dir>/<robot>/<object>/<skill> or its "
+            "category's <runs_dir>/<robot>/<category>/<skill>. `make teachers ROBOT=<robot>` trains every "
+            f"category's into runs/teachers (then {key}=runs/teachers); or select fewer "
+            "(subset.categories=[...], subset.skills=[...])"
+        )
+    return found
 
 
 def trained_success(run_dir: Path) -> float | None:

@@ -175,6 +175,7 @@ def evaluate(cfg: EvalCfg, policy: EvalPolicy | None = None) -> dict:
             f"{policy.name} predicts {policy.action_dim}-d actions but robot={cfg.robot} takes "
             f"{expected}-d ones; evaluate it with the robot it was trained for"
         )
+    policy.check_tasks({(c.robot, c.object_id, c.skill) for c in combos})
     results = ResultsFile(out / f"{cfg.split_name}.jsonl")
     write_json_atomic(out / "config.json", {"eval": settings, "policy_inputs": sorted(policy.inputs)})
     todo = [

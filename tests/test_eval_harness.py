@@ -159,6 +159,23 @@ def eval_cfg(tmp_path: Path, overrides: list[str]):
     return to_dataclass(with_env_task(compose_cfg("eval", [*base, *overrides])), EvalCfg).check_counts()
 
 
+def test_missing_teachers_are_named_before_anything_is_written(tmp_path):
+    runs = tmp_path / "runs"
+    cfg = eval_cfg(
+        tmp_path / "out",
+        [
+            "eval/policy=teacher",
+            f"policy.runs_dir={runs}",
+            "subset.categories=[box,cart]",
+            "subset.skills=null",
+        ],
+    )
+    each = r"for 4 of 4 object-skill tasks \(box/0010 close, box/0010 open, cart/0012 pull, cart/0012 push\)"
+    with pytest.raises(FileNotFoundError, match=f"no PPO teacher in policy.runs_dir={runs} {each}"):
+        evaluate(cfg)
+    assert not (tmp_path / "out").exists()
+
+
 def test_protocol_records_are_seeded_resumable_and_summarised(tmp_path):
     cfg = eval_cfg(tmp_path, ["eval/policy=scripted", "name=scripted", "subset.episodes=4"])
     summary = evaluate(cfg)

@@ -34,6 +34,10 @@ class EvalPolicy:
     )
     action_dim: int | None = None  # width of the actions it predicts, if fixed (a trained checkpoint's)
 
+    def check_tasks(self, tasks: set[tuple[str, str, str]]) -> None:
+        """Before anything runs or is written: stop with one error when a (robot, object, skill) task of the
+        protocol cannot be evaluated (a privileged policy's missing teacher)."""
+
     def start(self, env: MobileManiEnv, seed: int) -> None:
         """A new batch of episodes starts in `env` (already reset with `seed`);
         privileged policies bind to it."""

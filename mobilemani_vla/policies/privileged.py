@@ -14,7 +14,7 @@ from tensordict import TensorDict
 
 from mobilemani_rl.envs.mobilemani_env import MobileManiEnv
 from mobilemani_rl.scripted import ScriptedPolicy
-from mobilemani_rl.teacher import find_teacher_checkpoint, load_teacher
+from mobilemani_rl.teacher import find_every_teacher, find_teacher_checkpoint, load_teacher
 from mobilemani_vla.policies.base import PRIVILEGED_STATE, EvalPolicy, Observation
 
 
@@ -65,6 +65,10 @@ class TeacherEvalPolicy(EvalPolicy):
             return self.checkpoint
         task = env.cfg.task
         return find_teacher_checkpoint(self.runs_dir, task.robot, task.object, task.skill)
+
+    def check_tasks(self, tasks: set[tuple[str, str, str]]) -> None:
+        if self.checkpoint is None:
+            find_every_teacher(self.runs_dir, tasks, "policy.runs_dir")
 
     def start(self, env: MobileManiEnv, seed: int) -> None:
         checkpoint = self._checkpoint_for(env)
