@@ -37,6 +37,17 @@ def test_non_positive_evaluation_counts_name_their_keys():
         to_dataclass(with_env_task(cfg), EvalCfg).check_counts()
 
 
+@pytest.mark.parametrize("checkpoint", [None, ""])  # "": `policy.checkpoint=` on the command line
+def test_a_model_policy_without_a_checkpoint_names_the_key(checkpoint):
+    from mobilemani_vla.eval_config import PolicyCfg
+    from mobilemani_vla.policies.factory import build_policy
+
+    for kind in ("vla", "lerobot"):
+        with pytest.raises(ValueError, match=f"policy.kind={kind} needs policy.checkpoint="):
+            build_policy(PolicyCfg(kind=kind, checkpoint=checkpoint))
+    assert build_policy(PolicyCfg(kind="teacher", checkpoint=checkpoint)).checkpoint is None
+
+
 def test_validating_nothing_is_a_problem_not_valid(tmp_path):
     problems = validate(tiny_cfg(tmp_path / "nowhere"))
     assert len(problems) == 1 and "nothing to validate" in problems[0]

@@ -11,7 +11,7 @@ KINDS = ("vla", "lerobot", "teacher", "scripted", "random")
 
 def build_policy(cfg: PolicyCfg) -> EvalPolicy:
     check_choice(cfg.kind, KINDS, "policy kind")
-    if cfg.kind in ("vla", "lerobot") and cfg.checkpoint is None:
+    if cfg.kind in ("vla", "lerobot") and not cfg.checkpoint:  # unset, or "" from `policy.checkpoint=`
         raise InputError(f"policy.kind={cfg.kind} needs policy.checkpoint=<checkpoint directory>")
     if cfg.kind == "vla":
         from mobilemani_vla.policies.vla import VLAEvalPolicy
@@ -24,5 +24,5 @@ def build_policy(cfg: PolicyCfg) -> EvalPolicy:
     from mobilemani_vla.policies.privileged import RandomPolicy, ScriptedEvalPolicy, TeacherEvalPolicy
 
     if cfg.kind == "teacher":
-        return TeacherEvalPolicy(cfg.checkpoint, cfg.runs_dir)
+        return TeacherEvalPolicy(cfg.checkpoint or None, cfg.runs_dir)
     return ScriptedEvalPolicy() if cfg.kind == "scripted" else RandomPolicy()
