@@ -31,6 +31,8 @@ def open_dataset_metadata(repo_id: str, root: str | Path) -> LeRobotDatasetMetad
     """LeRobot's metadata of a local dataset whose every file is there. A missing file is named: LeRobot
     itself would fall back to the hub and fail offline, naming none."""
     root = Path(root)
+    if not root.is_dir():
+        raise MissingFileError(f"dataset {root} does not exist (`make data` exports one)")
     missing = [str(root / f) for f in META_FILES if not (root / f).is_file()]
     if not any((root / "meta" / "episodes").rglob("*.parquet")):
         missing.append(str(root / "meta/episodes/chunk-*/file-*.parquet"))

@@ -12,7 +12,9 @@ from __future__ import annotations
 import sys
 from contextlib import nullcontext
 
+from mobilemani_data.metadata import open_dataset_metadata
 from mobilemani_data.video import quiet_video_libraries
+from mobilemani_rl.cli import entry_point
 from mobilemani_rl.registry import InputError
 
 FLAG = "--frame_cache="
@@ -26,9 +28,19 @@ def frame_cache_flag(argv: list[str]) -> tuple[bool, list[str]]:
     return (values[-1] if values else "true") == "true", [arg for arg in argv if not arg.startswith(FLAG)]
 
 
+def check_dataset(argv: list[str]) -> None:
+    """The local dataset `--dataset.root=` names, with every file it lists: LeRobot would fall back to the hub
+    for a missing one and fail offline, naming none."""
+    given = dict(arg.removeprefix("--").split("=", 1) for arg in argv if arg.startswith("--dataset."))
+    if "dataset.root" in given:
+        open_dataset_metadata(given.get("dataset.repo_id", "local/dataset"), given["dataset.root"])
+
+
+@entry_point
 def main() -> None:
     use_cache, sys.argv[1:] = frame_cache_flag(sys.argv[1:])
     quiet_video_libraries()
+    check_dataset(sys.argv[1:])
     # Imported after the log filter is in place: lerobot warns about torchcodec while importing.
     from lerobot.scripts.lerobot_train import main as lerobot_train
 

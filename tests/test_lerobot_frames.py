@@ -11,7 +11,7 @@ from lerobot.datasets.lerobot_dataset import LeRobotDataset
 from mobilemani_data import schema
 from mobilemani_rl.registry import InputError
 from mobilemani_vla.lerobot_frames import served_from_frame_cache
-from mobilemani_vla.lerobot_train import frame_cache_flag
+from mobilemani_vla.lerobot_train import check_dataset, frame_cache_flag
 from mobilemani_vla.synthetic import write_synthetic_dataset
 
 
@@ -54,3 +54,16 @@ def test_frame_cache_flag_is_taken_out_of_lerobots_arguments():
     assert frame_cache_flag(["--frame_cache=false", "--steps=3"]) == (False, ["--steps=3"])
     with pytest.raises(InputError, match="--frame_cache=yes: give --frame_cache=true"):
         frame_cache_flag(["--frame_cache=yes"])
+
+
+def test_the_dataset_given_to_lerobot_train_is_checked_before_lerobot_opens_it(tmp_path):
+    """LeRobot falls back to the hub for a missing local file and fails offline, naming none."""
+    nowhere = tmp_path / "nowhere"
+    with pytest.raises(FileNotFoundError, match=f"dataset {nowhere} does not exist"):
+        check_dataset(["--policy.type=act", f"--dataset.root={nowhere}"])
+    root = write_synthetic_dataset(tmp_path / "g1", episodes=1, length=5)
+    check_dataset([f"--dataset.root={root}", "--dataset.repo_id=mobilemani/g1"])
+    (root / "meta" / "info.json").unlink()
+    with pytest.raises(FileNotFoundError, match="meta/info.json"):
+        check_dataset([f"--dataset.root={root}"])
+    check_dataset(["--resume=true", "--config_path=train_config.json"])  # its config names the dataset
