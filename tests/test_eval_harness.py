@@ -130,14 +130,23 @@ def test_tiny_ppo_teacher_through_the_harness_reproduces_its_own_evaluation(tmp_
     env_cfg.num_envs = 16
     stats = run_batch(MobileManiEnv(env_cfg), TeacherEvalPolicy(str(checkpoint)), 3, "open box", ENSEMBLE)
     assert abs(stats.success.mean() - own) <= 0.02
+    # The g1 teacher over xhand's protocol stops before anything is written.
+    xhand = eval_cfg(
+        tmp_path / "xhand", ["robot=xhand", "eval/policy=teacher", f"policy.checkpoint={checkpoint}"]
+    )
+    with pytest.raises(ValueError, match=f"{checkpoint} was trained for robot=g1, not robot=xhand"):
+        evaluate(xhand)
+    assert not (tmp_path / "xhand").exists()
 
 
 @pytest.mark.slow
 def test_trained_box_teacher_reproduces_its_success_rate():
     """The real g1 open test/box checkpoint: 256 episodes, seed 1000, as `python -m mobilemani_rl.eval`."""
-    checkpoint = Path(__file__).resolve().parents[1] / "runs/rl/g1/test/box/open/model_300.pt"
-    if not checkpoint.exists():
-        pytest.skip("no trained teacher checkpoint in runs/rl")
+    checkpoint = latest_checkpoint(Path(__file__).resolve().parents[1] / "runs/rl/g1/test/box/open")
+    if checkpoint is None:
+        pytest.skip(
+            "no trained teacher in runs/rl/g1/test/box/open (make rl ROBOT=g1 OBJECT=test/box SKILL=open)"
+        )
     own = evaluate_teacher(checkpoint, episodes=256, seed=1000)["success_rate"]
     env_cfg = to_dataclass(OmegaConf.load(checkpoint.parent / CONFIG), RLCfg).env_cfg()
     env_cfg.num_envs = 256

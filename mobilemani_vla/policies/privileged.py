@@ -13,8 +13,15 @@ import torch
 from tensordict import TensorDict
 
 from mobilemani_rl.envs.mobilemani_env import MobileManiEnv
+from mobilemani_rl.registry import InputError
 from mobilemani_rl.scripted import ScriptedPolicy
-from mobilemani_rl.teacher import find_every_teacher, find_teacher_checkpoint, load_teacher
+from mobilemani_rl.teacher import (
+    check_checkpoint_file,
+    find_every_teacher,
+    find_teacher_checkpoint,
+    load_teacher,
+    run_config,
+)
 from mobilemani_vla.policies.base import PRIVILEGED_STATE, EvalPolicy, Observation
 
 
@@ -69,6 +76,14 @@ class TeacherEvalPolicy(EvalPolicy):
     def check_tasks(self, tasks: set[tuple[str, str, str]]) -> None:
         if self.checkpoint is None:
             find_every_teacher(self.runs_dir, tasks, "policy.runs_dir")
+            return
+        check_checkpoint_file(self.checkpoint)
+        trained = run_config(self.checkpoint).task.robot
+        if others := sorted({robot for robot, _, _ in tasks} - {trained}):
+            raise InputError(
+                f"teacher checkpoint {self.checkpoint} was trained for robot={trained}, not robot="
+                f"{','.join(others)}; evaluate it with the robot it was trained for"
+            )
 
     def start(self, env: MobileManiEnv, seed: int) -> None:
         checkpoint = self._checkpoint_for(env)
