@@ -10,7 +10,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass, field
 
-from mobilemani_rl.envs.config import EnvCfg, EnvParamsCfg, RobotChoiceCfg, check_env_not_set
+from mobilemani_rl.envs.config import EnvCfg, EnvParamsCfg, RobotChoiceCfg, check_env_block
 from mobilemani_rl.registry import check_positive
 from mobilemani_rl.schema import register_schema
 from mobilemani_rl.tasks import SubsetCfg
@@ -119,7 +119,7 @@ class DataCfg:
                 "export.height": self.export.height,
             }
         )
-        check_env_not_set(self.env, {"num_envs": "collect.num_envs", "seed": "collect.seed"})
+        check_env_block(self.env, {"num_envs": "collect.num_envs", "seed": "collect.seed"})
         return self
 
 

@@ -15,6 +15,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from mobilemani_rl.registry import InputError
+
 
 @dataclass
 class EnsembleCfg:
@@ -66,6 +68,8 @@ class ChunkExecutor:
         k = self.cfg.action_index
         if k >= 0:
             if k >= chunks.shape[1]:
-                raise ValueError(f"action_index {k} is outside the policy's chunk of {chunks.shape[1]}")
+                raise InputError(
+                    f"ensemble.action_index={k} is outside the policy's chunk of {chunks.shape[1]} actions"
+                )
             return np.asarray(chunks[:, k], dtype=np.float64)
         return np.stack([e.update(c) for e, c in zip(self.ensemblers, chunks, strict=True)])

@@ -5,9 +5,11 @@ with `to_dataclass(with_env_task(cfg), EvalCfg).check_counts()`."""
 from __future__ import annotations
 
 from dataclasses import dataclass, field
+from typing import get_args
 
-from mobilemani_rl.envs.config import EnvCfg, EnvParamsCfg, RobotChoiceCfg, check_env_not_set
-from mobilemani_rl.registry import check_positive
+from mobilemani_rl.base_frame import Convention
+from mobilemani_rl.envs.config import EnvCfg, EnvParamsCfg, RobotChoiceCfg, check_env_block
+from mobilemani_rl.registry import InputError, check_choice, check_positive
 from mobilemani_rl.schema import register_schema
 from mobilemani_rl.tasks import SubsetCfg
 from mobilemani_vla.ensemble import EnsembleCfg
@@ -73,9 +75,21 @@ class EvalCfg:
                 "workers": self.workers,
                 "subset.scenes_per_object": self.subset.scenes_per_object,
                 "subset.objects_per_category": self.subset.objects_per_category,
+                "policy.batch_size": self.policy.batch_size,
+                "ensemble.horizon": self.ensemble.horizon,
             }
         )
-        check_env_not_set(self.env, {"num_envs": "episodes_per_batch", "seed": "seed"})
+        if self.video_episodes < 0:
+            raise InputError(f"video_episodes={self.video_episodes}: the episodes to record, 0 for none")
+        if self.ensemble.action_index < -1:
+            raise InputError(
+                f"ensemble.action_index={self.ensemble.action_index}: -1 (the adaptive ensemble) or a "
+                "chunk index >= 0"
+            )
+        check_choice(self.action_convention, get_args(Convention), "action_convention")
+        if self.image_size is not None and (len(self.image_size) != 2 or min(self.image_size) < 1):
+            raise InputError(f"image_size={self.image_size}: give [height, width] in pixels, or null")
+        check_env_block(self.env, {"num_envs": "episodes_per_batch", "seed": "seed"})
         return self
 
 

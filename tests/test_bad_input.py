@@ -48,6 +48,34 @@ def test_a_model_policy_without_a_checkpoint_names_the_key(checkpoint):
     assert build_policy(PolicyCfg(kind="teacher", checkpoint=checkpoint)).checkpoint is None
 
 
+@pytest.mark.parametrize(
+    ("override", "named"),
+    [
+        ("ensemble.horizon=0", "ensemble.horizon=0"),
+        ("policy.batch_size=0", "policy.batch_size=0"),
+        ("env.episode_length=0", "env.episode_length=0"),
+        ("env.physics.substeps=0", "env.physics.substeps=0"),
+        ("video_episodes=-1", "video_episodes=-1: the episodes to record"),
+        ("ensemble.action_index=-2", r"ensemble.action_index=-2: -1 \(the adaptive ensemble\)"),
+        (
+            "action_convention=foo",
+            "unknown action_convention 'foo'; valid action_conventions: conjugate, reference",
+        ),
+        ("image_size=[64]", r"image_size=\[64\]: give \[height, width\]"),
+        ("image_size=[0,0]", r"image_size=\[0, 0\]: give \[height, width\]"),
+    ],
+)
+def test_evaluation_config_names_each_bad_value(tmp_path, override, named):
+    from mobilemani_rl.envs.config import with_env_task
+    from mobilemani_rl.registry import InputError
+    from mobilemani_rl.schema import to_dataclass
+    from mobilemani_vla.eval_config import EvalCfg
+
+    cfg = compose_root("eval", ["eval/policy=scripted", f"output_dir={tmp_path / 'out'}", override])
+    with pytest.raises(InputError, match=named):
+        to_dataclass(with_env_task(cfg), EvalCfg).check_counts()
+
+
 def test_validating_nothing_is_a_problem_not_valid(tmp_path):
     problems = validate(tiny_cfg(tmp_path / "nowhere"))
     assert len(problems) == 1 and "nothing to validate" in problems[0]
@@ -176,6 +204,7 @@ def test_command_line_tools_name_the_bad_option(module, argv, message, capsys, t
         (f"rl.ppo.device=cuda:{torch.cuda.device_count()}", "CUDA device\\(s\\); use rl.ppo.device=cpu"),
         ("env.num_envs=4", r"env.num_envs=4 \(set it through rl.ppo.num_envs\)"),
         ("env.seed=4", r"env.seed=4 \(set it through rl.ppo.seed\)"),
+        ("env.episode_length=0", "env.episode_length=0"),
     ],
 )
 def test_rl_training_checks_its_config_before_writing_the_run_dir(tmp_path, override, named):

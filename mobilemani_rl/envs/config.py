@@ -12,7 +12,7 @@ from typing import Any
 
 from omegaconf import DictConfig, OmegaConf
 
-from mobilemani_rl.registry import InputError
+from mobilemani_rl.registry import InputError, check_positive
 
 
 @dataclass
@@ -127,9 +127,11 @@ class EnvCfg(EnvParamsCfg):
     task: TaskCfg = field(default_factory=TaskCfg)
 
 
-def check_env_not_set(env: EnvParamsCfg, set_by: dict[str, str]) -> None:
-    """Env keys an entry point sets itself (e.g. env.num_envs from rl.ppo.num_envs) must keep their defaults:
-    a value given there would be replaced without a word."""
+def check_env_block(env: EnvParamsCfg, set_by: dict[str, str]) -> None:
+    """An entry point's env block: its counts are at least 1, and the keys the entry point sets itself (e.g.
+    env.num_envs from rl.ppo.num_envs) keep their defaults, since a value given there would be replaced
+    without a word."""
+    check_positive({"env.episode_length": env.episode_length, "env.physics.substeps": env.physics.substeps})
     defaults = EnvParamsCfg()
     given = [
         f"env.{key}={getattr(env, key)} (set it through {owner})"

@@ -7,7 +7,7 @@ from __future__ import annotations
 import copy
 from dataclasses import dataclass, field, fields
 
-from mobilemani_rl.envs.config import EnvCfg, EnvParamsCfg, TaskCfg, check_env_not_set
+from mobilemani_rl.envs.config import EnvCfg, EnvParamsCfg, TaskCfg, check_env_block
 from mobilemani_rl.registry import InputError, check_choice, check_positive, check_torch_device
 from mobilemani_rl.schema import register_schema
 
@@ -131,7 +131,7 @@ class RLCfg:
             check_choice(self.task.skill, ALL_SKILLS, "skill")
         else:
             check_skill(get_object(self.task.object), self.task.skill)
-        check_env_not_set(self.env, {"num_envs": "rl.ppo.num_envs", "seed": "rl.ppo.seed"})
+        check_env_block(self.env, {"num_envs": "rl.ppo.num_envs", "seed": "rl.ppo.seed"})
         return self
 
     def env_cfg(self) -> EnvCfg:
