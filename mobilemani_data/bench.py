@@ -68,7 +68,7 @@ def run_bench(cfg: DataCfg, workdir: Path) -> dict:
 @hydra.main(config_path="../conf", config_name="data", version_base="1.3")
 @entry_point
 def main(cfg: DictConfig) -> None:
-    data_cfg = to_dataclass(with_env_task(cfg), DataCfg).check_counts()
+    data_cfg = to_dataclass(with_env_task(cfg), DataCfg).check()
     with tempfile.TemporaryDirectory(prefix="mobilemani_bench_") as tmp:
         report = run_bench(data_cfg, Path(tmp))
     out = Path(data_cfg.bench.out)

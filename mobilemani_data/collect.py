@@ -134,7 +134,7 @@ def collect(cfg: DataCfg) -> list[Path]:
 @hydra.main(config_path="../conf", config_name="data", version_base="1.3")
 @entry_point
 def main(cfg: DictConfig) -> None:
-    collect(to_dataclass(with_env_task(cfg), DataCfg).check_counts())
+    collect(to_dataclass(with_env_task(cfg), DataCfg).check())
 
 
 if __name__ == "__main__":

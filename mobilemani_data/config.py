@@ -3,15 +3,17 @@ conf/data/teacher) change the defaults of SubsetCfg and TeacherCfg.
 
 The env block (conf/env) is the RL env's EnvCfg; collection turns on its recording resets
 (docs/reference.md, "Rooms"). A composed config converts with
-`to_dataclass(with_env_task(cfg), DataCfg).check_counts()`.
+`to_dataclass(with_env_task(cfg), DataCfg).check()`.
 """
 
 from __future__ import annotations
 
 from dataclasses import dataclass, field
+from typing import get_args
 
+from mobilemani_rl.base_frame import Convention
 from mobilemani_rl.envs.config import EnvCfg, EnvParamsCfg, RobotChoiceCfg, check_env_block
-from mobilemani_rl.registry import check_positive
+from mobilemani_rl.registry import InputError, check_choice, check_positive
 from mobilemani_rl.schema import register_schema
 from mobilemani_rl.tasks import SubsetCfg
 
@@ -103,9 +105,9 @@ class DataCfg:
     bench: BenchCfg = field(default_factory=BenchCfg)
     env: EnvCfg = field(default_factory=EnvCfg)
 
-    def check_counts(self) -> DataCfg:
+    def check(self) -> DataCfg:
         """Checked before any stage writes: a zero or negative count would record empty shards marked
-        complete."""
+        complete, and a misspelt action convention would export the other one."""
         check_positive(
             {
                 "subset.episodes": self.subset.episodes,
@@ -117,8 +119,18 @@ class DataCfg:
                 "shard.count": self.shard.count,
                 "export.width": self.export.width,
                 "export.height": self.export.height,
+                "export.gop": self.export.gop,
             }
         )
+        for key, value, low, high in (
+            ("collect.action_noise", self.collect.action_noise, 0.0, float("inf")),
+            ("collect.compression", self.collect.compression, 0, 9),  # gzip's levels
+            ("teacher.min_train_success", self.teacher.min_train_success, 0.0, 1.0),
+            ("export.crf", self.export.crf, 0, 63),  # the widest range of our encoders (SVT-AV1)
+        ):
+            if not low <= value <= high:
+                raise InputError(f"{key}={value} must lie in [{low}, {high}]")
+        check_choice(self.export.action_convention, get_args(Convention), "export.action_convention")
         check_env_block(self.env, {"num_envs": "collect.num_envs", "seed": "collect.seed"})
         return self
 

@@ -256,7 +256,7 @@ def export(cfg: DataCfg) -> ExportReport:
 @hydra.main(config_path="../conf", config_name="data", version_base="1.3")
 @entry_point
 def main(cfg: DictConfig) -> None:
-    report = export(to_dataclass(with_env_task(cfg), DataCfg).check_counts())
+    report = export(to_dataclass(with_env_task(cfg), DataCfg).check())
     timing = (
         ""
         if report.reused

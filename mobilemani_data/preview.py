@@ -68,7 +68,7 @@ def write_preview(cfg: DataCfg) -> Path:
 @hydra.main(config_path="../conf", config_name="data", version_base="1.3")
 @entry_point
 def main(cfg: DictConfig) -> None:
-    print(write_preview(to_dataclass(with_env_task(cfg), DataCfg).check_counts()))
+    print(write_preview(to_dataclass(with_env_task(cfg), DataCfg).check()))
 
 
 if __name__ == "__main__":

@@ -89,7 +89,7 @@ def markdown(table: dict) -> str:
 @hydra.main(config_path="../conf", config_name="data", version_base="1.3")
 @entry_point
 def main(cfg: DictConfig) -> None:
-    data_cfg = to_dataclass(with_env_task(cfg), DataCfg).check_counts()
+    data_cfg = to_dataclass(with_env_task(cfg), DataCfg).check()
     root = Path(data_cfg.dataset_dir)
     table = dataset_stats(read_episodes(root))
     table["action_roughness"] = dataset_action_roughness(root, data_cfg.export.repo_id)

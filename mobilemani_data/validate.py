@@ -133,7 +133,7 @@ def validate(cfg: DataCfg) -> list[str]:
 @hydra.main(config_path="../conf", config_name="data", version_base="1.3")
 @entry_point
 def main(cfg: DictConfig) -> None:
-    problems = validate(to_dataclass(with_env_task(cfg), DataCfg).check_counts())
+    problems = validate(to_dataclass(with_env_task(cfg), DataCfg).check())
     for problem in problems:
         print(f"PROBLEM {problem}", file=sys.stderr)
     print("valid" if not problems else f"{len(problems)} problems")

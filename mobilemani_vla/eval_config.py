@@ -1,6 +1,6 @@
 """Closed-loop evaluation config: EvalRootCfg is conf/eval.yaml's schema, its groups
 conf/eval/{protocol,split,policy} change the defaults of `subset` and `policy`. A composed config converts
-with `to_dataclass(with_env_task(cfg), EvalCfg).check_counts()`."""
+with `to_dataclass(with_env_task(cfg), EvalCfg).check()`."""
 
 from __future__ import annotations
 
@@ -67,7 +67,7 @@ class EvalCfg:
         test_objects_test_scenes."""
         return f"{self.subset.split}_objects_{self.subset.scene_split or self.subset.split}_scenes"
 
-    def check_counts(self) -> EvalCfg:
+    def check(self) -> EvalCfg:
         check_positive(
             {
                 "subset.episodes": self.subset.episodes,

@@ -214,7 +214,7 @@ def evaluate(cfg: EvalCfg, policy: EvalPolicy | None = None) -> dict:
 @hydra.main(config_path="../conf", config_name="eval", version_base="1.3")
 @entry_point
 def main(cfg: DictConfig) -> None:
-    print(json.dumps(evaluate(to_dataclass(with_env_task(cfg), EvalCfg).check_counts())["overall"], indent=2))
+    print(json.dumps(evaluate(to_dataclass(with_env_task(cfg), EvalCfg).check())["overall"], indent=2))
 
 
 if __name__ == "__main__":

@@ -28,4 +28,4 @@ def tiny_cfg(workdir: Path, *overrides: str) -> DataCfg:
                 *overrides,
             ],
         )
-    return to_dataclass(with_env_task(cfg), DataCfg).check_counts()
+    return to_dataclass(with_env_task(cfg), DataCfg).check()

@@ -23,6 +23,24 @@ def test_non_positive_counts_name_their_keys(tmp_path):
     assert not any(tmp_path.iterdir())
 
 
+@pytest.mark.parametrize(
+    ("override", "named"),
+    [
+        ("export.gop=0", "export.gop=0"),
+        ("collect.action_noise=-0.3", r"collect.action_noise=-0.3 must lie in \[0.0, inf\]"),
+        ("collect.compression=12", r"collect.compression=12 must lie in \[0, 9\]"),
+        ("teacher.min_train_success=10", r"teacher.min_train_success=10.0 must lie in \[0.0, 1.0\]"),
+        ("export.crf=-1", r"export.crf=-1 must lie in \[0, 63\]"),
+        ("export.action_convention=referense", "unknown export.action_convention 'referense'"),
+        ("env.episode_length=0", "env.episode_length=0"),
+    ],
+)
+def test_data_values_name_their_keys_before_anything_is_written(tmp_path, override, named):
+    with pytest.raises(ValueError, match=named):
+        tiny_cfg(tmp_path, override)
+    assert not any(tmp_path.iterdir())
+
+
 def test_non_positive_evaluation_counts_name_their_keys():
     from hydra import compose, initialize_config_dir
 
@@ -34,7 +52,7 @@ def test_non_positive_evaluation_counts_name_their_keys():
     with initialize_config_dir(config_dir=conf, version_base="1.3"):
         cfg = compose(config_name="eval", overrides=["episodes_per_batch=0", "workers=0"])
     with pytest.raises(ValueError, match="episodes_per_batch=0, workers=0"):
-        to_dataclass(with_env_task(cfg), EvalCfg).check_counts()
+        to_dataclass(with_env_task(cfg), EvalCfg).check()
 
 
 @pytest.mark.parametrize("checkpoint", [None, ""])  # "": `policy.checkpoint=` on the command line
@@ -73,7 +91,7 @@ def test_evaluation_config_names_each_bad_value(tmp_path, override, named):
 
     cfg = compose_root("eval", ["eval/policy=scripted", f"output_dir={tmp_path / 'out'}", override])
     with pytest.raises(InputError, match=named):
-        to_dataclass(with_env_task(cfg), EvalCfg).check_counts()
+        to_dataclass(with_env_task(cfg), EvalCfg).check()
 
 
 def test_validating_nothing_is_a_problem_not_valid(tmp_path):
@@ -225,7 +243,7 @@ def test_env_keys_that_data_and_evaluation_set_are_refused(tmp_path):
         tiny_cfg(tmp_path, "env.seed=3")
     cfg = compose_root("eval", ["env.num_envs=4"])
     with pytest.raises(ValueError, match=r"env.num_envs=4 \(set it through episodes_per_batch\)"):
-        to_dataclass(with_env_task(cfg), EvalCfg).check_counts()
+        to_dataclass(with_env_task(cfg), EvalCfg).check()
 
 
 def test_rl_evaluation_names_its_keys():

@@ -22,9 +22,9 @@ CONF = Path(__file__).resolve().parents[1] / "conf"
 CONVERT = {
     "rl": lambda cfg: to_dataclass(cfg, RLCfg).env_cfg(),
     "eval_rl": lambda cfg: to_dataclass(cfg, EvalRlCfg),
-    "data": lambda cfg: to_dataclass(with_env_task(cfg), DataCfg).check_counts(),
+    "data": lambda cfg: to_dataclass(with_env_task(cfg), DataCfg).check(),
     "vla": lambda cfg: to_dataclass(cfg, VLACfg, ignore=ROOT_ONLY).validate(),
-    "eval": lambda cfg: to_dataclass(with_env_task(cfg), EvalCfg).check_counts(),
+    "eval": lambda cfg: to_dataclass(with_env_task(cfg), EvalCfg).check(),
 }
 # The roots each config group is composed into.
 GROUP_ROOTS = {

@@ -65,7 +65,7 @@ def test_unknown_names_stop_with_the_valid_choices():
 def test_hydra_tree_converts_to_the_dataclasses(subset):
     with initialize_config_dir(config_dir=str(CONF), version_base="1.3"):
         composed = compose("data", overrides=[f"data/subset={subset}", "robot=xhand"])
-    cfg = to_dataclass(with_env_task(composed), DataCfg).check_counts()
+    cfg = to_dataclass(with_env_task(composed), DataCfg).check()
     assert isinstance(cfg, DataCfg) and cfg.robot == "xhand" and cfg.raw_dir == "data/xhand/raw"
     assert cfg.env.task.robot == "xhand"
     with initialize_config_dir(config_dir=str(CONF), version_base="1.3"), pytest.raises(ConfigKeyError):

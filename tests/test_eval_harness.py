@@ -165,7 +165,7 @@ def eval_cfg(tmp_path: Path, overrides: list[str]):
         f"output_dir={tmp_path}",
         "env.episode_length=40",
     ]
-    return to_dataclass(with_env_task(compose_cfg("eval", [*base, *overrides])), EvalCfg).check_counts()
+    return to_dataclass(with_env_task(compose_cfg("eval", [*base, *overrides])), EvalCfg).check()
 
 
 def test_missing_teachers_are_named_before_anything_is_written(tmp_path):
@@ -217,7 +217,7 @@ def test_small_protocol_runs_as_written_and_reports_totals_and_eta(tmp_path, cap
     ]
     cfg = to_dataclass(
         with_env_task(compose_cfg("eval", [*protocol, f"output_dir={tmp_path / 'default'}"])), EvalCfg
-    ).check_counts()
+    ).check()
     assert cfg.episodes_per_batch == 10 and cfg.batch_size == 2
     evaluate(cfg)
     out = capsys.readouterr().out
@@ -231,7 +231,7 @@ def test_small_protocol_runs_as_written_and_reports_totals_and_eta(tmp_path, cap
             compose_cfg("eval", [*protocol, f"output_dir={tmp_path / 'explicit'}", "episodes_per_batch=2"])
         ),
         EvalCfg,
-    ).check_counts()
+    ).check()
     evaluate(explicit)
     split = "g1/default/test_objects_test_scenes.jsonl"
     assert [r["seed"] for r in read_records(tmp_path / "default" / split)] == [
@@ -245,7 +245,7 @@ def test_small_protocol_runs_as_written_and_reports_totals_and_eta(tmp_path, cap
             compose_cfg("eval", [*protocol, f"output_dir={tmp_path / 'default'}", "env.episode_length=12"])
         ),
         EvalCfg,
-    ).check_counts()
+    ).check()
     with pytest.raises(ConfigMismatchError, match=r"env.episode_length: 20 -> 12"):
         evaluate(changed)
 
