@@ -13,7 +13,7 @@ from typing import get_args
 
 from mobilemani_rl.base_frame import Convention
 from mobilemani_rl.envs.config import EnvCfg, EnvParamsCfg, RobotChoiceCfg, check_env_block
-from mobilemani_rl.registry import InputError, check_choice, check_positive
+from mobilemani_rl.registry import check_choice, check_positive, check_values
 from mobilemani_rl.schema import register_schema
 from mobilemani_rl.tasks import SubsetCfg
 
@@ -122,14 +122,16 @@ class DataCfg:
                 "export.gop": self.export.gop,
             }
         )
-        for key, value, low, high in (
-            ("collect.action_noise", self.collect.action_noise, 0.0, float("inf")),
-            ("collect.compression", self.collect.compression, 0, 9),  # gzip's levels
-            ("teacher.min_train_success", self.teacher.min_train_success, 0.0, 1.0),
-            ("export.crf", self.export.crf, 0, 63),  # the widest range of our encoders (SVT-AV1)
-        ):
-            if not low <= value <= high:
-                raise InputError(f"{key}={value} must lie in [{low}, {high}]")
+        noise, level = self.collect.action_noise, self.collect.compression
+        threshold, crf = self.teacher.min_train_success, self.export.crf
+        check_values(
+            [
+                ("collect.action_noise", noise, noise >= 0, "a standard deviation, >= 0"),
+                ("collect.compression", level, 0 <= level <= 9, "a gzip level, 0 to 9"),
+                ("teacher.min_train_success", threshold, 0 <= threshold <= 1, "a success rate, 0 to 1"),
+                ("export.crf", crf, 0 <= crf <= 63, "0 to 63, the widest range of our encoders"),
+            ]
+        )
         check_choice(self.export.action_convention, get_args(Convention), "export.action_convention")
         check_env_block(self.env, {"num_envs": "collect.num_envs", "seed": "collect.seed"})
         return self

@@ -61,6 +61,13 @@ def check_torch_device(value: str, key: str) -> str:
     return value
 
 
+def check_values(rules: Iterable[tuple[str, object, bool, str]]) -> None:
+    """Each rule: (key, value, whether it holds, what the value must be); stops naming every failing key."""
+    bad = [f"{key}={value} ({must})" for key, value, holds, must in rules if not holds]
+    if bad:
+        raise InputError("invalid values: " + "; ".join(bad))
+
+
 def check_positive(counts: Mapping[str, int | None]) -> None:
     """Counts named by their config keys (None: unset) must be >= 1; stops with every offending key."""
     bad = {key: value for key, value in counts.items() if value is not None and value < 1}

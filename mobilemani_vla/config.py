@@ -6,11 +6,13 @@ from __future__ import annotations
 
 from dataclasses import dataclass, field
 
+from accelerate.utils import PrecisionType
+from diffusers.optimization import SchedulerType
 from hydra import compose, initialize_config_dir
 from omegaconf import OmegaConf
 
 from mobilemani_rl.envs.config import RobotChoiceCfg
-from mobilemani_rl.registry import InputError, check_positive
+from mobilemani_rl.registry import InputError, check_positive, check_values
 from mobilemani_rl.schema import CONF_DIR, register_schema, to_dataclass
 from mobilemani_vla.augment import AugmentCfg
 from mobilemani_vla.dit import DIT_PRESETS, GELU_APPROXIMATIONS
@@ -148,7 +150,7 @@ class VLACfg:
 
     def validate(self) -> VLACfg:
         """Stop with one message naming the key and the valid choices (before anything is written)."""
-        t = self.train
+        t, d, data = self.train, self.diffusion, self.data
         check_positive(
             {
                 "train.steps": t.steps,
@@ -156,8 +158,27 @@ class VLACfg:
                 "train.log_every": t.log_every,
                 "train.save_every": t.save_every,
                 "train.keep_checkpoints": t.keep_checkpoints,
+                "train.diagnose_frames": t.diagnose_frames,
+                "diffusion.chunk": d.chunk,
+                "diffusion.train_timesteps": d.train_timesteps,
+                "diffusion.repeated_steps": d.repeated_steps,
+                "diffusion.ddim_steps": d.ddim_steps,
             }
         )
+        check_values(
+            [
+                ("train.lr", t.lr, t.lr > 0, "above 0"),
+                ("train.warmup_steps", t.warmup_steps, t.warmup_steps >= 0, ">= 0"),
+                ("train.ema_decay", t.ema_decay, 0 <= t.ema_decay < 1, "in [0, 1); 0 keeps no average"),
+                ("train.grad_clip", t.grad_clip, t.grad_clip >= 0, ">= 0; 0 clips nothing"),
+                ("diffusion.cfg_dropout", d.cfg_dropout, 0 <= d.cfg_dropout < 1, "in [0, 1); 0: no guidance"),
+                ("diffusion.ddim_steps", d.ddim_steps, d.ddim_steps <= d.train_timesteps, "<= its timesteps"),
+                ("data.heldout_episodes", data.heldout_episodes, data.heldout_episodes >= 0, ">= 0"),
+                ("data.num_workers", data.num_workers, data.num_workers >= 0, ">= 0"),
+            ]
+        )
+        _choices("train.mixed_precision", [t.mixed_precision], PrecisionType.list())
+        _choices("train.lr_schedule", [t.lr_schedule], [schedule.value for schedule in SchedulerType])
         _choices("train.logger", [t.logger], ("wandb", "none"))
         _choices("robot", [self.robot], ROBOT_ACTION_DIMS)
         _choices("inputs.cameras", self.inputs.cameras, CAMERAS)

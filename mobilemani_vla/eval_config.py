@@ -9,7 +9,7 @@ from typing import get_args
 
 from mobilemani_rl.base_frame import Convention
 from mobilemani_rl.envs.config import EnvCfg, EnvParamsCfg, RobotChoiceCfg, check_env_block
-from mobilemani_rl.registry import InputError, check_choice, check_positive
+from mobilemani_rl.registry import check_choice, check_positive, check_values
 from mobilemani_rl.schema import register_schema
 from mobilemani_rl.tasks import SubsetCfg
 from mobilemani_vla.ensemble import EnsembleCfg
@@ -79,16 +79,20 @@ class EvalCfg:
                 "ensemble.horizon": self.ensemble.horizon,
             }
         )
-        if self.video_episodes < 0:
-            raise InputError(f"video_episodes={self.video_episodes}: the episodes to record, 0 for none")
-        if self.ensemble.action_index < -1:
-            raise InputError(
-                f"ensemble.action_index={self.ensemble.action_index}: -1 (the adaptive ensemble) or a "
-                "chunk index >= 0"
-            )
+        videos, index, size = self.video_episodes, self.ensemble.action_index, self.image_size
+        check_values(
+            [
+                ("video_episodes", videos, videos >= 0, "episodes to record, >= 0"),
+                (
+                    "ensemble.action_index",
+                    index,
+                    index >= -1,
+                    "-1: adaptive ensemble, else a chunk index",
+                ),
+                ("image_size", size, size is None or (len(size) == 2 and min(size) >= 1), "[height, width]"),
+            ]
+        )
         check_choice(self.action_convention, get_args(Convention), "action_convention")
-        if self.image_size is not None and (len(self.image_size) != 2 or min(self.image_size) < 1):
-            raise InputError(f"image_size={self.image_size}: give [height, width] in pixels, or null")
         check_env_block(self.env, {"num_envs": "episodes_per_batch", "seed": "seed"})
         return self
 

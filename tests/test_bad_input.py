@@ -27,10 +27,10 @@ def test_non_positive_counts_name_their_keys(tmp_path):
     ("override", "named"),
     [
         ("export.gop=0", "export.gop=0"),
-        ("collect.action_noise=-0.3", r"collect.action_noise=-0.3 must lie in \[0.0, inf\]"),
-        ("collect.compression=12", r"collect.compression=12 must lie in \[0, 9\]"),
-        ("teacher.min_train_success=10", r"teacher.min_train_success=10.0 must lie in \[0.0, 1.0\]"),
-        ("export.crf=-1", r"export.crf=-1 must lie in \[0, 63\]"),
+        ("collect.action_noise=-0.3", r"collect.action_noise=-0.3 \(a standard deviation, >= 0\)"),
+        ("collect.compression=12", r"collect.compression=12 \(a gzip level, 0 to 9\)"),
+        ("teacher.min_train_success=10", r"teacher.min_train_success=10.0 \(a success rate, 0 to 1\)"),
+        ("export.crf=-1", r"export.crf=-1 \(0 to 63"),
         ("export.action_convention=referense", "unknown export.action_convention 'referense'"),
         ("env.episode_length=0", "env.episode_length=0"),
     ],
@@ -39,6 +39,30 @@ def test_data_values_name_their_keys_before_anything_is_written(tmp_path, overri
     with pytest.raises(ValueError, match=named):
         tiny_cfg(tmp_path, override)
     assert not any(tmp_path.iterdir())
+
+
+@pytest.mark.parametrize(
+    ("override", "named"),
+    [
+        ("diffusion.ddim_steps=0", "diffusion.ddim_steps=0"),
+        ("diffusion.ddim_steps=500", r"diffusion.ddim_steps=500 \(<= its timesteps\)"),
+        ("diffusion.cfg_dropout=1", r"diffusion.cfg_dropout=1.0 \(in \[0, 1\)"),
+        ("train.lr=-0.001", r"train.lr=-0.001 \(above 0\)"),
+        ("train.ema_decay=1.5", r"train.ema_decay=1.5 \(in \[0, 1\); 0 keeps no average\)"),
+        ("data.heldout_episodes=-1", r"data.heldout_episodes=-1 \(>= 0\)"),
+        (
+            "train.mixed_precision=bf32",
+            r"invalid train.mixed_precision \['bf32'\]: each must be one of \['no'",
+        ),
+        ("train.lr_schedule=cosin", r"invalid train.lr_schedule \['cosin'\]: each must be one of \['linear'"),
+    ],
+)
+def test_vla_training_values_name_their_keys(override, named):
+    from mobilemani_rl.registry import InputError
+    from mobilemani_vla.config import compose_vla_cfg
+
+    with pytest.raises(InputError, match=named):
+        compose_vla_cfg([override])
 
 
 def test_non_positive_evaluation_counts_name_their_keys():
@@ -73,14 +97,14 @@ def test_a_model_policy_without_a_checkpoint_names_the_key(checkpoint):
         ("policy.batch_size=0", "policy.batch_size=0"),
         ("env.episode_length=0", "env.episode_length=0"),
         ("env.physics.substeps=0", "env.physics.substeps=0"),
-        ("video_episodes=-1", "video_episodes=-1: the episodes to record"),
-        ("ensemble.action_index=-2", r"ensemble.action_index=-2: -1 \(the adaptive ensemble\)"),
+        ("video_episodes=-1", r"video_episodes=-1 \(episodes to record, >= 0\)"),
+        ("ensemble.action_index=-2", r"ensemble.action_index=-2 \(-1: adaptive ensemble"),
         (
             "action_convention=foo",
             "unknown action_convention 'foo'; valid action_conventions: conjugate, reference",
         ),
-        ("image_size=[64]", r"image_size=\[64\]: give \[height, width\]"),
-        ("image_size=[0,0]", r"image_size=\[0, 0\]: give \[height, width\]"),
+        ("image_size=[64]", r"image_size=\[64\] \(\[height, width\]\)"),
+        ("image_size=[0,0]", r"image_size=\[0, 0\] \(\[height, width\]\)"),
     ],
 )
 def test_evaluation_config_names_each_bad_value(tmp_path, override, named):
