@@ -247,6 +247,11 @@ def test_command_line_tools_name_the_bad_option(module, argv, message, capsys, t
         ("env.num_envs=4", r"env.num_envs=4 \(set it through rl.ppo.num_envs\)"),
         ("env.seed=4", r"env.seed=4 \(set it through rl.ppo.seed\)"),
         ("env.episode_length=0", "env.episode_length=0"),
+        ("rl.ppo.gamma=1.5", r"rl.ppo.gamma=1.5 \(a discount, in \(0, 1\]\)"),
+        ("rl.ppo.learning_rate=-1e-3", r"rl.ppo.learning_rate=-0.001 \(above 0\)"),
+        ("rl.ppo.num_mini_batches=1000", r"rl.ppo.num_mini_batches=1000 \(at most the 64 samples"),
+        ("rl.ppo.actor_hidden_dims=[64,0]", r"rl.ppo.actor/critic_hidden_dims=\[64, 0, "),
+        ("rl.ppo.warm_start.learning_rate=0", r"rl.ppo.warm_start.learning_rate=0.0 \(above 0\)"),
     ],
 )
 def test_rl_training_checks_its_config_before_writing_the_run_dir(tmp_path, override, named):

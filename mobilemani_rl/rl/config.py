@@ -8,7 +8,13 @@ import copy
 from dataclasses import dataclass, field, fields
 
 from mobilemani_rl.envs.config import EnvCfg, EnvParamsCfg, TaskCfg, check_env_block
-from mobilemani_rl.registry import InputError, check_choice, check_positive, check_torch_device
+from mobilemani_rl.registry import (
+    InputError,
+    check_choice,
+    check_positive,
+    check_torch_device,
+    check_values,
+)
 from mobilemani_rl.schema import register_schema
 
 LOGGERS = ("tensorboard", "wandb")
@@ -114,10 +120,54 @@ class RLCfg:
                 "rl.ppo.num_learning_epochs": ppo.num_learning_epochs,
                 "rl.ppo.num_mini_batches": ppo.num_mini_batches,
                 "objects_per_policy": self.objects_per_policy,
+                "rl.ppo.warm_start.epochs": ppo.warm_start.epochs,
+                "rl.ppo.warm_start.mini_batch_size": ppo.warm_start.mini_batch_size,
             }
         )
         if self.eval_episodes < 0:
             raise InputError(f"eval_episodes={self.eval_episodes} must be 0 (no evaluation) or more")
+        samples, warm = ppo.num_envs * ppo.num_steps_per_env, ppo.warm_start
+        hidden = [*ppo.actor_hidden_dims, *ppo.critic_hidden_dims]
+        check_values(
+            [
+                ("rl.ppo.learning_rate", ppo.learning_rate, ppo.learning_rate > 0, "above 0"),
+                ("rl.ppo.gamma", ppo.gamma, 0 < ppo.gamma <= 1, "a discount, in (0, 1]"),
+                ("rl.ppo.lam", ppo.lam, 0 <= ppo.lam <= 1, "GAE's lambda, in [0, 1]"),
+                ("rl.ppo.clip_param", ppo.clip_param, ppo.clip_param > 0, "above 0"),
+                ("rl.ppo.desired_kl", ppo.desired_kl, ppo.desired_kl > 0, "above 0"),
+                ("rl.ppo.init_noise_std", ppo.init_noise_std, ppo.init_noise_std > 0, "above 0"),
+                ("rl.ppo.entropy_coef", ppo.entropy_coef, ppo.entropy_coef >= 0, ">= 0"),
+                ("rl.ppo.max_grad_norm", ppo.max_grad_norm, ppo.max_grad_norm > 0, "above 0"),
+                (
+                    "rl.ppo.num_mini_batches",
+                    ppo.num_mini_batches,
+                    ppo.num_mini_batches <= samples,
+                    f"at most the {samples} samples of an iteration (num_envs x num_steps_per_env)",
+                ),
+                (
+                    "rl.ppo.actor/critic_hidden_dims",
+                    hidden,
+                    bool(hidden) and min(hidden) >= 1,
+                    "layer widths >= 1",
+                ),
+                (
+                    "rl.ppo.torch_threads",
+                    ppo.torch_threads,
+                    ppo.torch_threads >= 0,
+                    ">= 0; 0: torch's default",
+                ),
+                (
+                    "rl.ppo.update_threads",
+                    ppo.update_threads,
+                    ppo.update_threads >= 0,
+                    ">= 0; 0: torch's default",
+                ),
+                ("rl.ppo.warm_start.episodes", warm.episodes, warm.episodes >= 0, ">= 0; 0: no warm start"),
+                ("rl.ppo.warm_start.action_noise", warm.action_noise, warm.action_noise >= 0, ">= 0"),
+                ("rl.ppo.warm_start.learning_rate", warm.learning_rate, warm.learning_rate > 0, "above 0"),
+                ("rl.ppo.warm_start.noise_std", warm.noise_std, warm.noise_std > 0, "above 0"),
+            ]
+        )
         check_choice(self.logger, LOGGERS, "logger")
         check_choice(ppo.schedule, SCHEDULES, "rl.ppo.schedule")
         check_choice(ppo.precision, PRECISIONS, "rl.ppo.precision")
