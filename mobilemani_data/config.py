@@ -120,12 +120,20 @@ class DataCfg:
                 "export.width": self.export.width,
                 "export.height": self.export.height,
                 "export.gop": self.export.gop,
+                "preview.episodes": self.preview.episodes,
+                "bench.episodes": self.bench.episodes,
             }
         )
         noise, level = self.collect.action_noise, self.collect.compression
         threshold, crf = self.teacher.min_train_success, self.export.crf
+        checks, sizes = self.validate, self.bench.sizes
         check_values(
             [
+                # a negative count would slice from the end: every shard but the last ones
+                ("validate.replay_episodes", checks.replay_episodes, checks.replay_episodes >= 0, ">= 0"),
+                ("validate.decode_frames", checks.decode_frames, checks.decode_frames >= 0, ">= 0"),
+                ("validate.tolerance", checks.tolerance, checks.tolerance >= 0, ">= 0"),
+                ("bench.sizes", sizes, bool(sizes) and min(sizes) >= 1, "image sizes in pixels, >= 1"),
                 ("collect.action_noise", noise, noise >= 0, "a standard deviation, >= 0"),
                 ("collect.compression", level, 0 <= level <= 9, "a gzip level, 0 to 9"),
                 ("teacher.min_train_success", threshold, 0 <= threshold <= 1, "a success rate, 0 to 1"),

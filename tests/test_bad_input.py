@@ -33,6 +33,9 @@ def test_non_positive_counts_name_their_keys(tmp_path):
         ("export.crf=-1", r"export.crf=-1 \(0 to 63"),
         ("export.action_convention=referense", "unknown export.action_convention 'referense'"),
         ("env.episode_length=0", "env.episode_length=0"),
+        ("validate.replay_episodes=-1", r"validate.replay_episodes=-1 \(>= 0\)"),
+        ("preview.episodes=0", "preview.episodes=0"),
+        ("bench.sizes=[224,0]", r"bench.sizes=\[224, 0\] \(image sizes in pixels, >= 1\)"),
     ],
 )
 def test_data_values_name_their_keys_before_anything_is_written(tmp_path, override, named):
