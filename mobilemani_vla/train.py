@@ -67,13 +67,16 @@ def _batches(loader: DataLoader):
 
 def _resume_point(cfg: VLACfg, output_dir: Path) -> Path | None:
     """The newest readable checkpoint to continue from (one with unreadable weights or training state is named
-    and skipped); one of another model/input/diffusion setup is refused."""
+    and skipped); one of another model/input/diffusion setup or of other training data is refused."""
     found = finished_checkpoints(output_dir) if cfg.train.resume else []
     if not found:
         return None
     saved = vla_cfg_from_yaml((found[-1] / "config.yaml").read_text())
     fields = ("robot", "model", "inputs", "diffusion")
-    if differing := [f for f in fields if getattr(saved, f) != getattr(cfg, f)]:
+    differing = [f for f in fields if getattr(saved, f) != getattr(cfg, f)]
+    if _training_data(saved) != _training_data(cfg):
+        differing.append("data")
+    if differing:
         raise InputError(
             f"{found[-1]} was trained with a different {'/'.join(differing)} config; choose another "
             "train.output_dir or set train.resume=false"
@@ -86,6 +89,12 @@ def _resume_point(cfg: VLACfg, output_dir: Path) -> Path | None:
         f"no readable checkpoint in {output_dir / 'checkpoints'}; delete the damaged ones named above "
         "or set train.resume=false"
     )
+
+
+def _training_data(cfg: VLACfg) -> tuple:
+    """What decides the samples a run learns from; caching, decoding and loader workers do not."""
+    data = cfg.data
+    return Path(data.root).resolve(), data.repo_id, data.episodes, data.heldout_episodes
 
 
 def _load_resume_artifacts(

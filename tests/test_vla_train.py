@@ -158,8 +158,12 @@ def test_checkpoint_resume_and_policy(dataset_root, tmp_path):
     )
     assert json.loads((resumed.checkpoint / "trainer_state.json").read_text()) == {"step": 5}
 
-    with pytest.raises(ValueError, match="different"):  # same output_dir, other inputs
+    with pytest.raises(ValueError, match="different inputs config"):  # same output_dir, other inputs
         train(tiny_cfg(dataset_root, tmp_path, ["train.steps=6"]))
+    other_data = write_synthetic_dataset(tmp_path / "other" / "g1", episodes=2, length=20)
+    states = "inputs.states=[wrist_pose,grasp_point,goal_point]"
+    with pytest.raises(ValueError, match="different data config"):  # same output_dir, another dataset
+        train(tiny_cfg(other_data, tmp_path, ["train.steps=6", states]))
 
     policy = VLAPolicy.load(resumed.checkpoint)
     frame = open_data(cfg, 32, progress=False).train[5]
