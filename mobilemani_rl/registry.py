@@ -1,4 +1,5 @@
-"""Name lookups that fail with one clear message naming the valid choices."""
+"""Errors for input a user can fix, and the checks that raise them with one clear message naming the key or
+file and the valid choices."""
 
 from __future__ import annotations
 
