@@ -176,8 +176,19 @@ def evaluate(cfg: EvalCfg, policy: EvalPolicy | None = None) -> dict:
             f"{expected}-d ones; evaluate it with the robot it was trained for"
         )
     policy.check_tasks({(c.robot, c.object_id, c.skill) for c in combos})
-    results = ResultsFile(out / f"{cfg.split_name}.jsonl")
-    write_json_atomic(out / "config.json", {"eval": settings, "policy_inputs": sorted(policy.inputs)})
+    with ResultsFile(out / f"{cfg.split_name}.jsonl") as results:
+        write_json_atomic(out / "config.json", {"eval": settings, "policy_inputs": sorted(policy.inputs)})
+        run_missing_episodes(cfg, policy, combos, results)
+        summary = summarize(read_records(results.path))
+        write_json_atomic(out / f"{cfg.split_name}.summary.json", summary)
+    return summary
+
+
+def run_missing_episodes(
+    cfg: EvalCfg, policy: EvalPolicy, combos: list[Combination], results: ResultsFile
+) -> None:
+    """Every block of the protocol whose episodes the results file lacks, appended as each finishes."""
+    size = cfg.batch_size
     todo = [
         (k, combo, block)
         for k, combo in enumerate(combos)
@@ -206,9 +217,6 @@ def evaluate(cfg: EvalCfg, policy: EvalPolicy | None = None) -> dict:
             f"{progress.advance(size)}",
             flush=True,
         )
-    summary = summarize(read_records(results.path))
-    write_json_atomic(out / f"{cfg.split_name}.summary.json", summary)
-    return summary
 
 
 @hydra.main(config_path="../conf", config_name="eval", version_base="1.3")

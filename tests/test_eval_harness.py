@@ -26,7 +26,7 @@ from mobilemani_vla.eval_config import EvalCfg
 from mobilemani_vla.evaluate import evaluate
 from mobilemani_vla.harness import run_batch
 from mobilemani_vla.policies.privileged import RandomPolicy, ScriptedEvalPolicy, TeacherEvalPolicy
-from mobilemani_vla.results import read_records
+from mobilemani_vla.results import ResultsFile, read_records
 from mobilemani_vla.synthetic import write_synthetic_dataset
 from mobilemani_vla.train import train as train_vla
 
@@ -183,6 +183,17 @@ def test_missing_teachers_are_named_before_anything_is_written(tmp_path):
     with pytest.raises(FileNotFoundError, match=f"no PPO teacher in policy.runs_dir={runs} {each}"):
         evaluate(cfg)
     assert not (tmp_path / "out").exists()
+
+
+def test_a_second_evaluation_under_the_same_name_stops_instead_of_appending_twice(tmp_path):
+    cfg = eval_cfg(tmp_path, ["eval/policy=scripted", "name=scripted"])
+    path = tmp_path / "g1" / "scripted" / "test_objects_test_scenes.jsonl"
+    with ResultsFile(path):  # the first evaluation, still running
+        with pytest.raises(InputError, match=f"another evaluation is writing {path}"):
+            evaluate(cfg)
+        assert not (path.parent / "config.json").exists()
+    evaluate(cfg)  # the lock goes with the first
+    assert len(read_records(path)) == 2
 
 
 def test_protocol_records_are_seeded_resumable_and_summarised(tmp_path):
