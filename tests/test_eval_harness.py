@@ -2,6 +2,9 @@
 results, and a tiny VLA through the whole protocol."""
 
 import json
+import subprocess
+import sys
+import time
 from pathlib import Path
 
 import numpy as np
@@ -26,7 +29,7 @@ from mobilemani_vla.eval_config import EvalCfg
 from mobilemani_vla.evaluate import evaluate
 from mobilemani_vla.harness import run_batch
 from mobilemani_vla.policies.privileged import RandomPolicy, ScriptedEvalPolicy, TeacherEvalPolicy
-from mobilemani_vla.results import ResultsFile, read_records
+from mobilemani_vla.results import ResultsFile, read_records, record_key
 from mobilemani_vla.synthetic import write_synthetic_dataset
 from mobilemani_vla.train import train as train_vla
 
@@ -194,6 +197,27 @@ def test_a_second_evaluation_under_the_same_name_stops_instead_of_appending_twic
         assert not (path.parent / "config.json").exists()
     evaluate(cfg)  # the lock goes with the first
     assert len(read_records(path)) == 2
+
+
+@pytest.mark.slow
+def test_a_killed_evaluation_reruns_to_exact_counts(tmp_path):
+    """kill -9 after the first block: the rerun gets the lock the dead run held, runs only the missing
+    episodes, and the results hold each episode once."""
+    command = [sys.executable, "-m", "mobilemani_vla.evaluate", "eval/policy=random", "eval/protocol=small"]
+    command += ["episodes_per_batch=1", f"output_dir={tmp_path}"]
+    root = Path(__file__).resolve().parents[1]
+    path = tmp_path / "g1" / "default" / "test_objects_test_scenes.jsonl"
+    run = subprocess.Popen(command, cwd=root, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+    deadline = time.time() + 120
+    while not (path.is_file() and path.read_text()) and time.time() < deadline and run.poll() is None:
+        time.sleep(0.01)
+    run.kill()
+    run.wait()
+    assert 1 <= len(read_records(path)) < 10, "the kill should land between the first and the last block"
+    rerun = subprocess.run(command, cwd=root, capture_output=True, text=True)
+    assert rerun.returncode == 0, rerun.stderr
+    keys = [record_key(r) for r in read_records(path)]
+    assert len(keys) == len(set(keys)) == 10
 
 
 def test_protocol_records_are_seeded_resumable_and_summarised(tmp_path):
