@@ -9,6 +9,7 @@ LeRobot's arguments, plus `--frame_cache=false` to decode as stock LeRobot does:
 
 from __future__ import annotations
 
+import argparse
 import sys
 from contextlib import nullcontext
 
@@ -31,9 +32,12 @@ def frame_cache_flag(argv: list[str]) -> tuple[bool, list[str]]:
 def check_dataset(argv: list[str]) -> None:
     """The local dataset `--dataset.root=` names, with every file it lists: LeRobot would fall back to the hub
     for a missing one and fail offline, naming none."""
-    given = dict(arg.removeprefix("--").split("=", 1) for arg in argv if arg.startswith("--dataset."))
-    if "dataset.root" in given:
-        open_dataset_metadata(given.get("dataset.repo_id", "local/dataset"), given["dataset.root"])
+    parser = argparse.ArgumentParser(add_help=False, allow_abbrev=False)  # `--key=value` or `--key value`
+    parser.add_argument("--dataset.root", dest="root")
+    parser.add_argument("--dataset.repo_id", dest="repo_id", default="local/dataset")
+    given, _ = parser.parse_known_args(argv)
+    if given.root is not None:
+        open_dataset_metadata(given.repo_id, given.root)
 
 
 @entry_point

@@ -59,8 +59,9 @@ def test_frame_cache_flag_is_taken_out_of_lerobots_arguments():
 def test_the_dataset_given_to_lerobot_train_is_checked_before_lerobot_opens_it(tmp_path):
     """LeRobot falls back to the hub for a missing local file and fails offline, naming none."""
     nowhere = tmp_path / "nowhere"
-    with pytest.raises(FileNotFoundError, match=f"dataset {nowhere} does not exist"):
-        check_dataset(["--policy.type=act", f"--dataset.root={nowhere}"])
+    for given in ([f"--dataset.root={nowhere}"], ["--dataset.root", str(nowhere)]):  # both of LeRobot's forms
+        with pytest.raises(FileNotFoundError, match=f"dataset {nowhere} does not exist"):
+            check_dataset(["--policy.type=act", "--dataset.streaming", *given])
     root = write_synthetic_dataset(tmp_path / "g1", episodes=1, length=5)
     check_dataset([f"--dataset.root={root}", "--dataset.repo_id=mobilemani/g1"])
     (root / "meta" / "info.json").unlink()
