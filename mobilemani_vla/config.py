@@ -6,8 +6,6 @@ from __future__ import annotations
 
 from dataclasses import dataclass, field
 
-from accelerate.utils import PrecisionType
-from diffusers.optimization import SchedulerType
 from hydra import compose, initialize_config_dir
 from omegaconf import OmegaConf
 
@@ -150,6 +148,10 @@ class VLACfg:
 
     def validate(self) -> VLACfg:
         """Stop with one message naming the key and the valid choices (before anything is written)."""
+        # imported here: reading a config (evaluation, tables) need not load the training stack
+        from accelerate.utils import PrecisionType
+        from diffusers.optimization import SchedulerType
+
         t, d, data = self.train, self.diffusion, self.data
         check_positive(
             {
