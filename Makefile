@@ -184,11 +184,12 @@ lerobot: setup
 	$(MAKE) eval ROBOT=$(ROBOT) POLICY=lerobot NAME=lerobot_$(LEROBOT_POLICY) \
 		CHECKPOINT=$(LEROBOT_LAST)/pretrained_model
 
-# The whole chain at small scale, 21.5-24 min after `make setup` on our 2-core machines
-# (docs/results/demo/rgb_batch16.md; PyTorch runs at half that speed on the slower one, short_schedules.md):
+# The whole chain at small scale, 21.5-29.2 min after `make setup` on our 2-core machines
+# (docs/results/demo/rgb_batch16.md, docs/results/readme_commands.md; PyTorch runs at half that speed on a slower
+# one, short_schedules.md):
 # a PPO teacher for g1 opening test/box, 160 episodes from it in the 16 train rooms (executed with action noise,
 # DART; each room repainted per episode, 64 px, H.264), the CPU recipe's VLA on the two RGB cameras
-# (vla/model=cpu vla/train=cpu, DEMO_VLA_STEPS steps of 16 samples: 9000 steps in ~14 min), closed-loop
+# (vla/model=cpu vla/train=cpu, DEMO_VLA_STEPS steps of 16 samples: 9000 steps in 14-19 min), closed-loop
 # evaluation of both over 20 episodes in the four unseen test rooms, tables and a report (no rollout video: it
 # doubles the evaluation on 2 cores; add EVAL_ARGS video_episodes=1 to `make eval` for one). Why these settings:
 # the recipe's 95% needs repainted rooms and ~9000 steps (docs/results/vla_cpu_recipe.md), and two RGB streams

@@ -9,6 +9,7 @@ teacher; combinations whose teacher trained below `teacher.min_train_success` ar
 such teacher. The count of combinations to collect is printed up front, and every combination's line ends with
 progress and an ETA. `collect.workers=N` collects N combinations side by side in worker processes, each on
 an equal share of the CPU's threads; a combination's episodes depend only on its seed, not on the worker.
+A second collection of the same shard into the same data_dir stops while the first runs (`collection_lock`).
 """
 
 from __future__ import annotations
@@ -22,7 +23,7 @@ from omegaconf import DictConfig, OmegaConf
 
 from mobilemani_data import schema
 from mobilemani_data.combos import shard_of, shard_path
-from mobilemani_data.config import DataCfg
+from mobilemani_data.config import DataCfg, ShardCfg
 from mobilemani_data.recorder import collect_successes
 from mobilemani_data.shards import complete_header, write_shard
 from mobilemani_data.teachers import build_teacher, kind_of, teachable_combinations
@@ -33,6 +34,7 @@ from mobilemani_rl.progress import Progress
 from mobilemani_rl.registry import ConfigMismatchError
 from mobilemani_rl.schema import changed_values, to_dataclass
 from mobilemani_rl.tasks import Combination, select_combinations
+from mobilemani_rl.writer_lock import WriterLock
 
 
 def episode_settings(cfg: DataCfg, combo: Combination) -> dict:
@@ -121,14 +123,29 @@ def collect(cfg: DataCfg) -> list[Path]:
     workers = min(cfg.collect.workers, len(todo))
     if workers > 1 and cfg.env.physics.nthread == 0:  # every worker on all cores would oversubscribe them
         cfg.env.physics.nthread = threads_per_worker(workers)
-    finished = run_in_pool(partial(timed_collection, cfg), todo, workers)
-    progress = Progress(len(todo), "combinations")
-    for (k, combo, _), (summary, seconds) in finished:
-        print(
-            f"[{k + 1}/{len(combos)}] {combo.name}: {summary} ({seconds:.1f} s) | {progress.advance()}",
-            flush=True,
-        )
+    with WriterLock(Path(cfg.raw_dir) / collection_lock(cfg.shard), collection_busy(cfg)):
+        finished = run_in_pool(partial(timed_collection, cfg), todo, workers)
+        progress = Progress(len(todo), "combinations")
+        for (k, combo, _), (summary, seconds) in finished:
+            print(
+                f"[{k + 1}/{len(combos)}] {combo.name}: {summary} ({seconds:.1f} s) | {progress.advance()}",
+                flush=True,
+            )
     return paths
+
+
+def collection_lock(shard: ShardCfg) -> str:
+    """One lock per shard of the combinations: the jobs of a sharded multirun share a data_dir, and only two
+    jobs on the same shard would collect the same combinations."""
+    return "collect.lock" if shard.count == 1 else f"collect.shard-{shard.index}-of-{shard.count}.lock"
+
+
+def collection_busy(cfg: DataCfg) -> str:
+    shard = f" (shard.index={cfg.shard.index} of {cfg.shard.count})" if cfg.shard.count > 1 else ""
+    return (
+        f"another collection is writing {cfg.raw_dir}{shard}; wait for it to end "
+        "(its complete shards are then skipped) or choose another data_dir=..."
+    )
 
 
 @hydra.main(config_path="../conf", config_name="data", version_base="1.3")

@@ -3,7 +3,8 @@
     python -m mobilemani_data.export robot=g1 [export.width=224 export.height=224] [export.overwrite=true]
 
 The dataset is written next to its final place and renamed when finalized, so an interrupted export never
-looks complete. A shard that cannot be read is reported by name and left out; the others are exported.
+looks complete; `<dataset>.lock` beside it keeps a second export of the same dataset out. A shard that
+cannot be read is reported by name and left out; the others are exported.
 A rerun on the same shards with the same settings (recorded in the export report) renders nothing;
 `export.overwrite=true` replaces a dataset exported from other shards or settings.
 Episode metadata (robot, object, category, skill, scene, split, ...) goes to `schema.EPISODES_FILE`.
@@ -39,6 +40,7 @@ from mobilemani_rl.registry import InputError, MissingFileError, OutputExistsErr
 from mobilemani_rl.render import CameraRenderCfg, CameraRenderer
 from mobilemani_rl.render.appearance import RoomRepainter
 from mobilemani_rl.schema import to_dataclass
+from mobilemani_rl.writer_lock import WriterLock
 
 PARTIAL = ".partial"
 
@@ -198,6 +200,15 @@ def export(cfg: DataCfg) -> ExportReport:
         raise MissingFileError(
             f"no shards under {raw_dir / robot.name} (run python -m mobilemani_data.collect)"
         )
+    busy = f"another export is writing {root}; wait for it to end or choose another dataset_dir=..."
+    with WriterLock(root.with_name(root.name + ".lock"), busy):
+        return export_shards(cfg, robot, raw_dir, root, paths)
+
+
+def export_shards(
+    cfg: DataCfg, robot: RobotDescription, raw_dir: Path, root: Path, paths: list[Path]
+) -> ExportReport:
+    """Render `paths` into the dataset at `root` through `<root>.partial`, unless it is up to date."""
     source = export_source(cfg.export, raw_dir, paths)
     # A rerun (make data, make demo) does not render the same dataset again.
     if (existing := up_to_date_report(root, source)) is not None:

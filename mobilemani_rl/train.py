@@ -21,11 +21,12 @@ from omegaconf import DictConfig, OmegaConf
 from mobilemani_rl.cli import entry_point
 from mobilemani_rl.eval import evaluate
 from mobilemani_rl.io import write_json_atomic
-from mobilemani_rl.rl.config import RLCfg
+from mobilemani_rl.rl.config import PpoCfg, RLCfg
 from mobilemani_rl.rl.factory import build_runner
 from mobilemani_rl.rl.run_dir import (
     CURVE,
     RESULT,
+    TRAIN_LOCK,
     WARM_START,
     WARM_START_CHECKPOINT,
     ConfigRules,
@@ -39,6 +40,7 @@ from mobilemani_rl.rl.run_dir import (
 from mobilemani_rl.rl.runner import MobileManiRunner
 from mobilemani_rl.rl.warm_start import warm_start
 from mobilemani_rl.schema import to_dataclass
+from mobilemani_rl.writer_lock import WriterLock
 
 # where a run computes, not what it learns: a resumed run may change them (each env steps alone, so the
 # physics thread count does not change a trajectory)
@@ -73,11 +75,20 @@ def load_newest_readable(runner: MobileManiRunner, run_dir: Path) -> Path | None
 def train(cfg: DictConfig) -> Path:
     ppo = to_dataclass(cfg, RLCfg).check().rl.ppo  # before anything is written
     run_dir = Path(cfg.run_dir)
-    # first: a finished run asked for other settings is an error, for more iterations it goes on
-    save_or_check_config(run_dir, cfg, RUN_RULES)
-    if is_complete(run_dir):
-        print(f"{run_dir} is complete ({RESULT} exists); nothing to do")
-        return run_dir
+    busy = f"another training run is writing {run_dir}; wait for it to end or choose another run_dir=..."
+    with WriterLock(run_dir / TRAIN_LOCK, busy):
+        # first: a finished run asked for other settings is an error, for more iterations it goes on
+        save_or_check_config(run_dir, cfg, RUN_RULES)
+        if is_complete(run_dir):
+            print(f"{run_dir} is complete ({RESULT} exists); nothing to do")
+        else:
+            run_ppo(cfg, ppo, run_dir)
+    return run_dir
+
+
+def run_ppo(cfg: DictConfig, ppo: PpoCfg, run_dir: Path) -> None:
+    """The warm start and PPO of a run directory whose config is saved, from wherever it stopped; its
+    curve and `result.json` last."""
     runner = build_runner(cfg, run_dir)
     wall = time.time()
     start = 0
@@ -125,7 +136,6 @@ def train(cfg: DictConfig) -> Path:
             "checkpoint": str(latest_checkpoint(run_dir)),
         },
     )
-    return run_dir
 
 
 def last_measured_success(curve: list[dict]) -> float | None:

@@ -8,7 +8,6 @@ Success rates follow the reference's metric (`load_vla_test_success`): per objec
 
 from __future__ import annotations
 
-import fcntl
 import json
 import os
 from collections import defaultdict
@@ -17,7 +16,7 @@ from pathlib import Path
 
 import numpy as np
 
-from mobilemani_rl.registry import InputError
+from mobilemani_rl.writer_lock import WriterLock
 
 Key = tuple[str, str, str, str, int]
 # The paper's per-category table groups skills by their motion: grasp-and-move vs. push-to-close.
@@ -47,21 +46,15 @@ def read_records(path: Path) -> list[dict]:
 
 
 class ResultsFile:
-    """The results file of one run, held by one writer at a time (a lock file beside it, which the system
-    releases however the process ends): two evaluations under one name would append the same episodes
-    twice."""
+    """The results file of one run, held by one writer at a time: two evaluations under one name would append
+    the same episodes twice."""
 
     def __init__(self, path: Path) -> None:
         self.path = path
-        path.parent.mkdir(parents=True, exist_ok=True)
-        self._lock = path.with_name(path.name + ".lock").open("w")
-        try:
-            fcntl.flock(self._lock, fcntl.LOCK_EX | fcntl.LOCK_NB)
-        except BlockingIOError:
-            self._lock.close()
-            raise InputError(
-                f"another evaluation is writing {path}; wait for it to end or choose another name=..."
-            ) from None
+        self._lock = WriterLock(
+            path.with_name(path.name + ".lock"),
+            f"another evaluation is writing {path}; wait for it to end or choose another name=...",
+        )
         self._drop_partial_line()
         self.done = {record_key(r) for r in read_records(path)}
 
@@ -69,7 +62,7 @@ class ResultsFile:
         return self
 
     def __exit__(self, *exc: object) -> None:
-        self._lock.close()  # closing releases the lock
+        self._lock.release()
 
     def _drop_partial_line(self) -> None:
         if not self.path.exists():

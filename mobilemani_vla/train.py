@@ -13,6 +13,7 @@ import json
 import os
 import pickle
 import time
+from contextlib import ExitStack
 from dataclasses import asdict, dataclass
 from pathlib import Path
 
@@ -29,7 +30,9 @@ from transformers import PreTrainedTokenizerBase
 
 from mobilemani_rl.cli import entry_point
 from mobilemani_rl.registry import InputError, first_sentence
+from mobilemani_rl.rl.run_dir import TRAIN_LOCK
 from mobilemani_rl.schema import to_dataclass
+from mobilemani_rl.writer_lock import WriterLock
 from mobilemani_vla.augment import augment_images
 from mobilemani_vla.checkpoint import (
     checkpoint_dir,
@@ -125,6 +128,11 @@ def _trim_log(path: Path, step: int) -> None:
 
 
 def train(cfg: VLACfg) -> TrainResult:
+    with ExitStack() as held:  # the output directory's writer lock, from when it is made to the end
+        return _train(cfg, held)
+
+
+def _train(cfg: VLACfg, held: ExitStack) -> TrainResult:
     os.environ.setdefault("WANDB_MODE", "offline")
     output_dir = Path(cfg.train.output_dir)
     accelerator = Accelerator(
@@ -189,6 +197,12 @@ def train(cfg: VLACfg) -> TrainResult:
             load_ema(ema, resume_from)
     # Every input is checked by now; the run directory is made here, not by Hydra before the checks.
     output_dir.mkdir(parents=True, exist_ok=True)
+    if accelerator.is_main_process:
+        busy = (
+            f"another training run is writing {output_dir}; wait for it to end or choose another "
+            "train.output_dir=..."
+        )
+        held.enter_context(WriterLock(output_dir / TRAIN_LOCK, busy))
     accelerator.init_trackers(
         "mobilemani_vla",
         config=asdict(cfg),

@@ -18,8 +18,9 @@ from mobilemani_data.export import export
 from mobilemani_data.metadata import read_episodes, read_export_report
 from mobilemani_data.shards import PARTIAL_SUFFIX, read_shard, shard_paths
 from mobilemani_data.validate import validate
-from mobilemani_rl.registry import ConfigMismatchError, MissingFileError
+from mobilemani_rl.registry import ConfigMismatchError, InputError, MissingFileError
 from mobilemani_rl.tasks import select_combinations
+from mobilemani_rl.writer_lock import WriterLock
 
 ROOT = Path(__file__).resolve().parents[1]
 # One object, both skills, both scenes: four shards.
@@ -148,6 +149,29 @@ def test_missing_ppo_teachers_are_named_before_anything_is_written(tmp_path):
     with pytest.raises(MissingFileError, match=r"for 4 of 4 object-skill tasks \(cart/0000 pull, "):
         collect(cfg)
     assert not (tmp_path / "raw").exists()
+
+
+def test_a_second_collection_or_export_of_the_same_output_stops(tmp_path):
+    """One collection per shard of a data_dir (the jobs of a sharded multirun share it) and one export per
+    dataset; the second stops at once, naming what the first is writing."""
+    one_skill = ["subset.objects=[dishwasher/0000]", "subset.skills=[open]", "subset.episodes=1"]
+    raw = tmp_path / "raw"
+    with WriterLock(raw / "collect.lock", "a first collection"):
+        with pytest.raises(InputError, match=f"another collection is writing {raw}; wait for it"):
+            collect(tiny_cfg(tmp_path, *one_skill))
+        assert not shard_paths(raw, "g1")
+    with WriterLock(raw / "collect.shard-0-of-2.lock", "the job of shard 0"):
+        with pytest.raises(InputError, match=r"writing .*raw \(shard.index=0 of 2\)"):
+            collect(tiny_cfg(tmp_path, *one_skill, "shard.index=0", "shard.count=2"))
+        collect(tiny_cfg(tmp_path, *one_skill, "shard.index=1", "shard.count=2"))  # the other shard runs
+    assert len(shard_paths(raw, "g1")) == 1
+    cfg = tiny_cfg(tmp_path, *one_skill)
+    dataset = Path(cfg.dataset_dir)
+    with WriterLock(dataset.with_name(dataset.name + ".lock"), "a first export"):
+        with pytest.raises(InputError, match=f"another export is writing {dataset}; wait for it"):
+            export(cfg)
+    assert not dataset.exists() and not Path(cfg.dataset_dir + ".partial").exists()
+    assert export(cfg).episodes == 1
 
 
 def test_corrupt_shard_is_named_and_the_rest_exports(tmp_path, capsys):

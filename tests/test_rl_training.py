@@ -15,10 +15,11 @@ import torch
 from hydra import compose, initialize_config_dir
 
 from mobilemani_rl.eval import evaluate
-from mobilemani_rl.registry import ConfigMismatchError
+from mobilemani_rl.registry import ConfigMismatchError, InputError
 from mobilemani_rl.rl.factory import policy_objects
-from mobilemani_rl.rl.run_dir import ConfigRules, latest_checkpoint, save_or_check_config
+from mobilemani_rl.rl.run_dir import TRAIN_LOCK, ConfigRules, latest_checkpoint, save_or_check_config
 from mobilemani_rl.train import train
+from mobilemani_rl.writer_lock import WriterLock
 
 ROOT = Path(__file__).resolve().parents[1]
 
@@ -94,6 +95,18 @@ def test_a_run_that_stopped_before_its_first_checkpoint_takes_the_corrected_conf
         ConfigRules(("rl",)),
     )  # what a run that crashed at start leaves behind
     train(compose_rl(["rl/ppo=tiny", f"run_dir={run_dir}", "rl.ppo.max_iterations=1"]))
+    assert (run_dir / "result.json").exists()
+
+
+def test_a_second_training_run_on_the_same_run_dir_stops_before_writing(tmp_path):
+    """Two processes training one run directory would interleave their checkpoints and curves."""
+    run_dir = tmp_path / "run"
+    cfg = compose_rl(["rl/ppo=tiny", f"run_dir={run_dir}", "rl.ppo.max_iterations=1"])
+    with WriterLock(run_dir / TRAIN_LOCK, "the first run"):
+        with pytest.raises(InputError, match=f"another training run is writing {run_dir}; wait for it"):
+            train(cfg)
+        assert [p.name for p in run_dir.iterdir()] == [TRAIN_LOCK]
+    train(cfg)
     assert (run_dir / "result.json").exists()
 
 

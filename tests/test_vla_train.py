@@ -11,7 +11,10 @@ from hydra import compose, initialize_config_dir
 from payload import PlantedCode
 
 from mobilemani_data import schema
+from mobilemani_rl.registry import InputError
+from mobilemani_rl.rl.run_dir import TRAIN_LOCK
 from mobilemani_rl.schema import to_dataclass
+from mobilemani_rl.writer_lock import WriterLock
 from mobilemani_vla.config import ROOT_ONLY, VLACfg
 from mobilemani_vla.data import fit_normalizer, open_data
 from mobilemani_vla.frame_cache import cache_dir
@@ -62,6 +65,16 @@ def test_a_new_output_directory_is_made_before_the_first_diagnostics(dataset_roo
     train(tiny_cfg(dataset_root, out, ["train.steps=2", "train.diagnose_every=1", "train.save_every=100"]))
     lines = (out / "diagnostics.jsonl").read_text().splitlines()
     assert [json.loads(line)["step"] for line in lines] == [1, 2]
+
+
+def test_a_second_training_run_on_the_same_output_directory_stops(dataset_root, tmp_path):
+    out = tmp_path / "run"
+    cfg = tiny_cfg(dataset_root, out, ["train.steps=1", "train.diagnose_every=0"])
+    with WriterLock(out / TRAIN_LOCK, "the first run"):
+        with pytest.raises(InputError, match=f"another training run is writing {out}; wait for it"):
+            train(cfg)
+        assert [p.name for p in out.iterdir()] == [TRAIN_LOCK]
+    assert train(cfg).checkpoint.name == "step_00000001"
 
 
 def test_forward_backward_on_a_dataset_batch(dataset_root, tmp_path):

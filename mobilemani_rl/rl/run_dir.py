@@ -25,6 +25,7 @@ WARM_START = "warm_start.json"  # behaviour-cloning statistics, when the run sta
 WARM_START_CHECKPOINT = (
     "warm_start.pt"  # the runner right after the warm start (minutes of work a rerun keeps)
 )
+TRAIN_LOCK = "train.lock"  # held by the process training the run (mobilemani_rl.writer_lock)
 _CHECKPOINT = re.compile(r"model_(\d+)\.pt$")
 
 
