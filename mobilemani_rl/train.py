@@ -6,7 +6,8 @@
 Rerunning the same command resumes from the run directory's newest checkpoint with its saved config
 (or, before PPO's first checkpoint, from the finished warm start); a finished run
 (result.json present) is left as it is, unless asked for more iterations (`rl.ppo.max_iterations`), which it
-goes on to from its newest checkpoint.
+goes on to from its newest checkpoint. While a process trains a run directory it holds `train.lock` there,
+so a second one on the same directory stops at once instead of writing the same checkpoints.
 """
 
 from __future__ import annotations

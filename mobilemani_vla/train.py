@@ -4,7 +4,8 @@ Runs through `accelerate`: single process on a CPU; on GPUs `accelerate launch -
 mobilemani_vla.train vla/model=paligemma2_3b vla/train=paper ...` (DDP, bf16 from train.mixed_precision), or
 an FSDP accelerate config (accelerate's FSDP files, plus the gathered weights as model.safetensors, which
 evaluation loads). Checkpoints (safetensors + config + normaliser + tokenizer) go to
-train.output_dir/checkpoints; a run resumes from the newest one there unless train.resume=false.
+train.output_dir/checkpoints; a run resumes from the newest one there unless train.resume=false. The main
+process holds train.output_dir/train.lock while it trains, so a second run on the directory stops at once.
 """
 
 from __future__ import annotations
