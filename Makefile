@@ -146,6 +146,8 @@ recipe: setup
 # MobileManiVLA (results land beside it, so `make tables` shows both). Pretrained backbones stay off (no downloads):
 #   make lerobot [LEROBOT_POLICY=act|diffusion|smolvla LEROBOT_DATA=runs/recipe/open/data/lerobot LEROBOT_STEPS=2000
 #                 PROTOCOL=recipe EVAL_ARGS="output_dir=runs/recipe/eval"]
+# The default LEROBOT_DATA is `make data`'s dataset, six streams at 520 px: more than a 24 GB CPU machine holds for
+# ACT at batch 16 (killed, session 31). On a CPU give it a dataset exported at 64-128 px (README, stock LeRobot).
 LEROBOT_POLICY ?= act
 LEROBOT_DATA ?= data/$(ROBOT)/lerobot
 LEROBOT_STEPS ?= 2000
