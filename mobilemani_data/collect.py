@@ -34,7 +34,7 @@ from mobilemani_rl.progress import Progress
 from mobilemani_rl.registry import ConfigMismatchError
 from mobilemani_rl.schema import changed_values, to_dataclass
 from mobilemani_rl.tasks import Combination, select_combinations
-from mobilemani_rl.writer_lock import WriterLock
+from mobilemani_rl.writer_lock import WriterLock, busy
 
 
 def episode_settings(cfg: DataCfg, combo: Combination) -> dict:
@@ -123,7 +123,11 @@ def collect(cfg: DataCfg) -> list[Path]:
     workers = min(cfg.collect.workers, len(todo))
     if workers > 1 and cfg.env.physics.nthread == 0:  # every worker on all cores would oversubscribe them
         cfg.env.physics.nthread = threads_per_worker(workers)
-    with WriterLock(Path(cfg.raw_dir) / collection_lock(cfg.shard), collection_busy(cfg)):
+    shard = f" (shard.index={cfg.shard.index} of {cfg.shard.count})" if cfg.shard.count > 1 else ""
+    with WriterLock(
+        Path(cfg.raw_dir) / collection_lock(cfg.shard),
+        busy("collection", f"{cfg.raw_dir}{shard}", "data_dir"),
+    ):
         finished = run_in_pool(partial(timed_collection, cfg), todo, workers)
         progress = Progress(len(todo), "combinations")
         for (k, combo, _), (summary, seconds) in finished:
@@ -138,14 +142,6 @@ def collection_lock(shard: ShardCfg) -> str:
     """One lock per shard of the combinations: the jobs of a sharded multirun share a data_dir, and only two
     jobs on the same shard would collect the same combinations."""
     return "collect.lock" if shard.count == 1 else f"collect.shard-{shard.index}-of-{shard.count}.lock"
-
-
-def collection_busy(cfg: DataCfg) -> str:
-    shard = f" (shard.index={cfg.shard.index} of {cfg.shard.count})" if cfg.shard.count > 1 else ""
-    return (
-        f"another collection is writing {cfg.raw_dir}{shard}; wait for it to end "
-        "(its complete shards are then skipped) or choose another data_dir=..."
-    )
 
 
 @hydra.main(config_path="../conf", config_name="data", version_base="1.3")

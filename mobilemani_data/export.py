@@ -40,7 +40,7 @@ from mobilemani_rl.registry import InputError, MissingFileError, OutputExistsErr
 from mobilemani_rl.render import CameraRenderCfg, CameraRenderer
 from mobilemani_rl.render.appearance import RoomRepainter
 from mobilemani_rl.schema import to_dataclass
-from mobilemani_rl.writer_lock import WriterLock
+from mobilemani_rl.writer_lock import WriterLock, busy
 
 PARTIAL = ".partial"
 
@@ -200,8 +200,7 @@ def export(cfg: DataCfg) -> ExportReport:
         raise MissingFileError(
             f"no shards under {raw_dir / robot.name} (run python -m mobilemani_data.collect)"
         )
-    busy = f"another export is writing {root}; wait for it to end or choose another dataset_dir=..."
-    with WriterLock(root.with_name(root.name + ".lock"), busy):
+    with WriterLock(root.with_name(root.name + ".lock"), busy("export", root, "dataset_dir")):
         return export_shards(cfg, robot, raw_dir, root, paths)
 
 

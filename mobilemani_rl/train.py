@@ -41,7 +41,7 @@ from mobilemani_rl.rl.run_dir import (
 from mobilemani_rl.rl.runner import MobileManiRunner
 from mobilemani_rl.rl.warm_start import warm_start
 from mobilemani_rl.schema import to_dataclass
-from mobilemani_rl.writer_lock import WriterLock
+from mobilemani_rl.writer_lock import WriterLock, busy
 
 # where a run computes, not what it learns: a resumed run may change them (each env steps alone, so the
 # physics thread count does not change a trajectory)
@@ -76,8 +76,7 @@ def load_newest_readable(runner: MobileManiRunner, run_dir: Path) -> Path | None
 def train(cfg: DictConfig) -> Path:
     ppo = to_dataclass(cfg, RLCfg).check().rl.ppo  # before anything is written
     run_dir = Path(cfg.run_dir)
-    busy = f"another training run is writing {run_dir}; wait for it to end or choose another run_dir=..."
-    with WriterLock(run_dir / TRAIN_LOCK, busy):
+    with WriterLock(run_dir / TRAIN_LOCK, busy("training run", run_dir, "run_dir")):
         # first: a finished run asked for other settings is an error, for more iterations it goes on
         save_or_check_config(run_dir, cfg, RUN_RULES)
         if is_complete(run_dir):

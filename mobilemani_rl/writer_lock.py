@@ -10,6 +10,11 @@ from pathlib import Path
 from mobilemani_rl.registry import InputError
 
 
+def busy(writer: str, output: object, key: str) -> str:
+    """The refusal a second writer gets: what holds `output`, and the `key` that chooses another output."""
+    return f"another {writer} is writing {output}; wait for it to end or choose another {key}=..."
+
+
 class WriterLock:
     """Hold `path` (created if missing) until `release` or the end of a `with` block; InputError(`busy`) at
     once when another process holds it."""

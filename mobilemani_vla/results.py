@@ -16,7 +16,7 @@ from pathlib import Path
 
 import numpy as np
 
-from mobilemani_rl.writer_lock import WriterLock
+from mobilemani_rl.writer_lock import WriterLock, busy
 
 Key = tuple[str, str, str, str, int]
 # The paper's per-category table groups skills by their motion: grasp-and-move vs. push-to-close.
@@ -51,10 +51,7 @@ class ResultsFile:
 
     def __init__(self, path: Path) -> None:
         self.path = path
-        self._lock = WriterLock(
-            path.with_name(path.name + ".lock"),
-            f"another evaluation is writing {path}; wait for it to end or choose another name=...",
-        )
+        self._lock = WriterLock(path.with_name(path.name + ".lock"), busy("evaluation", path, "name"))
         self._drop_partial_line()
         self.done = {record_key(r) for r in read_records(path)}
 

@@ -33,7 +33,7 @@ from mobilemani_rl.cli import entry_point
 from mobilemani_rl.registry import InputError, first_sentence
 from mobilemani_rl.rl.run_dir import TRAIN_LOCK
 from mobilemani_rl.schema import to_dataclass
-from mobilemani_rl.writer_lock import WriterLock
+from mobilemani_rl.writer_lock import WriterLock, busy
 from mobilemani_vla.augment import augment_images
 from mobilemani_vla.checkpoint import (
     checkpoint_dir,
@@ -199,11 +199,8 @@ def _train(cfg: VLACfg, held: ExitStack) -> TrainResult:
     # Every input is checked by now; the run directory is made here, not by Hydra before the checks.
     output_dir.mkdir(parents=True, exist_ok=True)
     if accelerator.is_main_process:
-        busy = (
-            f"another training run is writing {output_dir}; wait for it to end or choose another "
-            "train.output_dir=..."
-        )
-        held.enter_context(WriterLock(output_dir / TRAIN_LOCK, busy))
+        lock = WriterLock(output_dir / TRAIN_LOCK, busy("training run", output_dir, "train.output_dir"))
+        held.enter_context(lock)
     accelerator.init_trackers(
         "mobilemani_vla",
         config=asdict(cfg),
