@@ -74,18 +74,10 @@ class VLAPolicy:
                 f"missing inputs {missing}; this policy reads cameras {self.cameras} and vectors "
                 f"{self.vector_inputs}"
             )
-        frames = []
-        for i, instruction in enumerate(instructions):
-            frame = {
-                camera_key(c): torch.from_numpy(np.ascontiguousarray(images[c][i])).permute(2, 0, 1).float()
-                / 255.0
-                for c in self.cameras
-            }
-            frame.update(
-                {k: torch.from_numpy(np.asarray(vectors[k][i], np.float32)) for k in self.vector_inputs}
-            )
-            frame["task"] = instruction
-            frames.append(frame)
-        batch = {k: v.to(self.device) for k, v in self.processor(frames).items()}
+        # One (B, 3, H, W) view per camera: converted and resized as a whole, not frame by frame.
+        inputs = {camera_key(c): torch.from_numpy(images[c]).permute(0, 3, 1, 2) for c in self.cameras}
+        inputs.update({k: torch.from_numpy(np.asarray(vectors[k], np.float32)) for k in self.vector_inputs})
+        inputs["task"] = instructions
+        batch = {k: v.to(self.device) for k, v in self.processor.collate(inputs).items()}
         chunks = self.model.predict(batch, generator)
         return self.processor.normalizer.unnormalize(schema.ACTION, chunks).cpu().numpy()

@@ -20,7 +20,7 @@ from mobilemani_vla.data import fit_normalizer, open_data
 from mobilemani_vla.frame_cache import cache_dir
 from mobilemani_vla.model import build_model
 from mobilemani_vla.policy import VLAPolicy
-from mobilemani_vla.processor import VLAProcessor, resize_images
+from mobilemani_vla.processor import VLAProcessor, camera_key, resize_images
 from mobilemani_vla.synthetic import write_synthetic_dataset
 from mobilemani_vla.tokenizer import build_word_tokenizer
 from mobilemani_vla.train import train
@@ -109,6 +109,35 @@ def test_forward_backward_on_a_dataset_batch(dataset_root, tmp_path):
     ):
         assert any(p.grad is not None and p.grad.abs().sum() > 0 for p in part.parameters())
     assert model.backbone.cognition.grad.abs().sum() > 0
+
+
+def test_the_evaluators_batch_gives_the_model_what_training_frames_give():
+    """The evaluator hands the processor one (B, H, W, 3) uint8 view per camera; training, one float frame per
+    sample. The model inputs must be the same, bit for bit."""
+    from mobilemani_vla.normalizer import Normalizer
+
+    cameras, states = ["head_rgb", "wrist_depth"], ["wrist_pose", "grasp_point"]
+    bounds = {schema.ACTION: ([-1.0] * 7, [1.0] * 7), schema.STATE: ([-2.0] * 10, [2.0] * 10)}
+    bounds[schema.GRASP_POINT_BASE] = ([-1.0] * 3, [3.0] * 3)
+    processor = VLAProcessor(build_word_tokenizer(), Normalizer(bounds), cameras, states, 32, "{instruction}")
+    rng = np.random.default_rng(0)
+    images = {c: rng.integers(0, 256, (3, 70, 90, 3), dtype=np.uint8) for c in cameras}
+    vectors = {schema.STATE: rng.normal(size=(3, 10)), schema.GRASP_POINT_BASE: rng.normal(size=(3, 3))}
+    tasks = ["open box", "close box", "open box"]
+    frames = [
+        {
+            **{camera_key(c): torch.from_numpy(images[c][i]).permute(2, 0, 1) / 255.0 for c in cameras},
+            **{k: torch.as_tensor(v[i], dtype=torch.float32) for k, v in vectors.items()},
+            "task": tasks[i],
+        }
+        for i in range(3)
+    ]
+    batch = {camera_key(c): torch.from_numpy(images[c]).permute(0, 3, 1, 2) for c in cameras}
+    batch.update({k: torch.as_tensor(v, dtype=torch.float32) for k, v in vectors.items()})
+    from_frames, from_batch = processor(frames), processor.collate({**batch, "task": tasks})
+    assert from_batch["pixel_values"].shape == (3, 2, 3, 32, 32) and from_batch["state"].shape == (3, 12)
+    assert from_frames.keys() == from_batch.keys()
+    assert all(torch.equal(from_frames[k], from_batch[k]) for k in from_frames)
 
 
 @pytest.mark.parametrize("experiment", EXPERIMENTS)
