@@ -51,8 +51,8 @@ def resize_images(images: torch.Tensor, size: int) -> torch.Tensor:
 
 
 def as_unit_float(image: torch.Tensor) -> torch.Tensor:
-    """uint8 images -> float in [0, 1]; float images pass through."""
-    return image.float() / 255.0 if image.dtype == torch.uint8 else image.float()
+    """uint8 images -> float in [0, 1] (in place on the one float copy); float images pass through."""
+    return image.float().div_(255.0) if image.dtype == torch.uint8 else image.float()
 
 
 @dataclass
