@@ -75,7 +75,10 @@ class VLAPolicy:
                 f"{self.vector_inputs}"
             )
         # One (B, 3, H, W) view per camera: converted and resized as a whole, not frame by frame.
-        inputs = {camera_key(c): torch.from_numpy(images[c]).permute(0, 3, 1, 2) for c in self.cameras}
+        inputs = {
+            camera_key(c): torch.from_numpy(np.ascontiguousarray(images[c])).permute(0, 3, 1, 2)
+            for c in self.cameras
+        }
         inputs.update({k: torch.from_numpy(np.asarray(vectors[k], np.float32)) for k in self.vector_inputs})
         inputs["task"] = instructions
         batch = {k: v.to(self.device) for k, v in self.processor.collate(inputs).items()}
