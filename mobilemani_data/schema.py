@@ -16,7 +16,6 @@ from __future__ import annotations
 FPS = 30
 CAMERAS = ("head", "wrist")
 MODALITIES = ("rgb", "depth", "seg")
-DEPTH_RANGE_M = 5.0
 SEGMENTATION_SCALE = 100  # label * 100 in every channel: 0, 100, 200
 
 # LeRobot's conventions (lerobot.utils.feature_utils.dataset_to_policy_features): every feature named

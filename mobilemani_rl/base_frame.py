@@ -24,14 +24,6 @@ def points_to_base(points: np.ndarray, base_pos: np.ndarray, base_quat: np.ndarr
     return quat_apply(quat_conj(base_quat), points - base_pos)
 
 
-def pose_to_base(
-    pos: np.ndarray, quat: np.ndarray, base_pos: np.ndarray, base_quat: np.ndarray
-) -> np.ndarray:
-    """World pose -> base-frame (position, RPY), (n, 6)."""
-    local = quat_mul(quat_conj(base_quat), quat)
-    return np.concatenate((points_to_base(pos, base_pos, base_quat), euler_from_quat(local)), axis=-1)
-
-
 def _rotate_action(action: np.ndarray, q: np.ndarray, convention: Convention) -> np.ndarray:
     """The translation rotated by q; the rotation delta left-multiplied by q ("reference") or conjugated."""
     out = np.array(action, dtype=np.float64, copy=True)

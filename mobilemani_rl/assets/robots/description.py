@@ -39,7 +39,3 @@ class RobotDescription:
     @property
     def action_dim(self) -> int:
         return 6 + len(self.hand_joints)
-
-    @property
-    def active_joints(self) -> tuple[str, ...]:
-        return self.ik_joints + self.hand_joints

@@ -103,7 +103,6 @@ INDOOR_STYLES: dict[str, Style] = {
     ),
 }
 PARKING_LOT = "parking_lot"
-STYLE_NAMES = (*INDOOR_STYLES, PARKING_LOT)
 
 
 def pick(rng: np.random.Generator, options: tuple) -> object:
