@@ -1,8 +1,12 @@
 """Sweep launcher configs compose, and evaluation files become the paper-style tables."""
 
 import json
+import os
+import subprocess
+import sys
 from pathlib import Path
 
+import pytest
 from hydra import compose, initialize_config_dir
 
 from mobilemani_rl import teacher_tables
@@ -17,6 +21,30 @@ def test_slurm_launcher_config_composes():
     launcher = cfg.hydra.launcher
     assert launcher._target_.endswith("SlurmLauncher")
     assert launcher.cpus_per_task == 16 and launcher.timeout_min == 240
+
+
+@pytest.mark.slow
+def test_a_sweep_through_submitit_trains_one_run_per_job(tmp_path):
+    """The README's sweep line on submitit's local executor, the plugin the slurm launcher extends: each job
+    pickles the task, trains in its own run directory and reports its result back (no cluster needed)."""
+    command = [
+        sys.executable,
+        "-m",
+        "mobilemani_rl.train",
+        "-m",
+        "hydra/launcher=submitit_local",
+        "task.object=box/0000,box/0001",
+        "task.skill=open",
+        "rl/ppo=tiny",
+    ]
+    env = {**os.environ, "PYTHONPATH": str(ROOT)}
+    done = subprocess.run(command, cwd=tmp_path, env=env, capture_output=True, text=True, timeout=600)
+    assert done.returncode == 0, done.stderr[-2000:]
+    for obj in ("box/0000", "box/0001"):
+        result = json.loads((tmp_path / "runs/rl/g1" / obj / "open/result.json").read_text())
+        assert result["iterations"] == 3 and result["checkpoint"].endswith("model_2.pt")
+    (sweep,) = (tmp_path / "runs/sweeps").iterdir()
+    assert sorted(p.name for p in sweep.iterdir() if p.name.isdigit()) == ["0", "1"]
 
 
 def test_tables_from_evaluation_files(tmp_path, monkeypatch, capsys):

@@ -18,6 +18,7 @@ from mobilemani_rl.eval import evaluate
 from mobilemani_rl.registry import ConfigMismatchError, InputError
 from mobilemani_rl.rl.factory import policy_objects
 from mobilemani_rl.rl.run_dir import TRAIN_LOCK, ConfigRules, latest_checkpoint, save_or_check_config
+from mobilemani_rl.rl.runner import _shown
 from mobilemani_rl.train import train
 from mobilemani_rl.writer_lock import WriterLock
 
@@ -287,3 +288,9 @@ def test_ppo_trains_on_its_device_and_the_teacher_evaluates_on_the_cpu(tmp_path,
     assert {t.device.type for t in saved.values()} == {torch.device(device).type}
     result = evaluate(checkpoint, episodes=4, seed=3)
     assert result["objects"]["test/box"]["episodes"] == 4
+
+
+def test_the_progress_bar_shows_a_dash_until_an_episode_has_ended():
+    assert _shown(float("nan"), ".2f") == "-"
+    assert _shown(0.5, ".2f") == "0.50"
+    assert _shown(-85.34, ".1f") == "-85.3"

@@ -104,11 +104,16 @@ class ProgressLogger(Logger):
         )
         self.bar.n = it + 1
         self.bar.set_postfix(
-            success=f"{success:.2f}",
-            reward=f"{reward:.1f}",
+            success=_shown(success, ".2f"),
+            reward=_shown(reward, ".1f"),
             sps=f"{self.tot_timesteps / max(self.tot_time, 1e-9):.0f}",
         )
         self.bar.refresh()
+
+
+def _shown(value: float, spec: str) -> str:
+    """'-' until an episode has ended (the curve keeps nan): "nan" on the bar reads like a diverged run."""
+    return "-" if np.isnan(value) else format(value, spec)
 
 
 def _episode_mean(extras: list[dict], key: str) -> float:
