@@ -230,8 +230,11 @@ def _train(cfg: VLACfg, held: ExitStack) -> TrainResult:
     def save(at: int) -> Path:
         final = checkpoint_dir(output_dir, at)
         tmp = final.with_name(f".tmp_{final.name}")
-        accelerator.save_state(str(tmp))  # collective: every process takes part
-        weights = accelerator.get_state_dict(model)  # collective too; gathers FSDP shards on the main process
+        accelerator.save_state(str(tmp))  # every process writes its part (its RNG state, FSDP shards)
+        weights = accelerator.get_state_dict(model)  # collective; gathers FSDP shards on the main process
+        # save_state ends without a barrier: publishing before every process has written would move the
+        # directory from under a process still writing into it.
+        accelerator.wait_for_everyone()
         if accelerator.is_main_process:
             save_gathered_weights(tmp, weights)
             save_artifacts(
