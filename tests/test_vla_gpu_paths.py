@@ -121,7 +121,7 @@ def test_two_process_training_saves_every_rank_and_resumes(tmp_path):
     over the ranks, every rank's state is in a checkpoint before it is published, and a rerun resumes both."""
     data = write_synthetic_dataset(tmp_path / "g1", episodes=2, length=20)
     run_dir = tmp_path / "run"
-    torchrun = [sys.executable, "-m", "torch.distributed.run", "--nproc_per_node", "2"]
+    torchrun = [sys.executable, "-m", "torch.distributed.run", "--standalone", "--nproc_per_node", "2"]
     launch = [*torchrun, "-m", "mobilemani_vla.train"]
     settings = [
         "vla/model=tiny",
