@@ -3,9 +3,10 @@
 Runs through `accelerate`: single process on a CPU; on GPUs `accelerate launch --multi_gpu -m
 mobilemani_vla.train vla/model=paligemma2_3b vla/train=paper ...` (DDP, bf16 from train.mixed_precision), or
 an FSDP accelerate config (accelerate's FSDP files, plus the gathered weights as model.safetensors, which
-evaluation loads). Checkpoints (safetensors + config + normaliser + tokenizer) go to
-train.output_dir/checkpoints; a run resumes from the newest one there unless train.resume=false. The main
-process holds train.output_dir/train.lock while it trains, so a second run on the directory stops at once.
+evaluation loads; sharded FSDP runs without the weight EMA and the held-out diagnostics). Checkpoints
+(safetensors + config + normaliser + tokenizer) go to train.output_dir/checkpoints; a run resumes from the
+newest one there unless train.resume=false. The main process holds train.output_dir/train.lock while it
+trains, so a second run on the directory stops at once.
 """
 
 from __future__ import annotations
@@ -21,9 +22,10 @@ from pathlib import Path
 import hydra
 import torch
 from accelerate import Accelerator
-from accelerate.utils import set_seed
+from accelerate.utils import DistributedType, set_seed
 from diffusers.optimization import get_scheduler
 from omegaconf import DictConfig
+from torch.distributed.fsdp import ShardingStrategy
 from torch.optim.swa_utils import AveragedModel
 from torch.utils.data import DataLoader
 from tqdm import tqdm
@@ -46,7 +48,7 @@ from mobilemani_vla.checkpoint import (
     unreadable_training_state,
     unreadable_weights,
 )
-from mobilemani_vla.config import ROOT_ONLY, VLACfg, vla_cfg_from_yaml
+from mobilemani_vla.config import ROOT_ONLY, TrainCfg, VLACfg, vla_cfg_from_yaml
 from mobilemani_vla.data import fit_normalizer, open_data, open_metadata
 from mobilemani_vla.diagnostics import diagnose, heldout_batch
 from mobilemani_vla.model import MobileManiVLA, build_model
@@ -61,6 +63,31 @@ class TrainResult:
     checkpoint: Path
     model: MobileManiVLA
     processor: VLAProcessor
+
+
+def shards_weights(accelerator: Accelerator) -> bool:
+    """Whether FSDP splits the weights over the processes, leaving the main process only its part."""
+    if accelerator.distributed_type != DistributedType.FSDP or accelerator.num_processes == 1:
+        return False
+    plugin = accelerator.state.fsdp_plugin
+    return plugin.fsdp_version == 2 or plugin.sharding_strategy != ShardingStrategy.NO_SHARD
+
+
+def check_main_process_features(train_cfg: TrainCfg, sharded: bool) -> None:
+    """The weight EMA and the held-out diagnostics run on the main process's copy of the whole model; with
+    sharded weights the one would average a shard and the other hang or fail at its first step."""
+    if not sharded:
+        return
+    used = [
+        f"train.{k}={v}"
+        for k, v in (("ema_decay", train_cfg.ema_decay), ("diagnose_every", train_cfg.diagnose_every))
+        if v > 0
+    ]
+    if used:
+        raise InputError(
+            f"{' and '.join(used)} need the whole model on the main process, and FSDP shards it over the "
+            "processes: set them to 0 (the paper's preset keeps no EMA), or train with DDP or FSDP's NO_SHARD"
+        )
 
 
 def _batches(loader: DataLoader):
@@ -142,6 +169,7 @@ def _train(cfg: VLACfg, held: ExitStack) -> TrainResult:
         log_with="wandb" if cfg.train.logger == "wandb" else None,
     )
     set_seed(cfg.train.seed)
+    check_main_process_features(cfg.train, shards_weights(accelerator))
     per_device, rest = divmod(cfg.train.batch_size, accelerator.num_processes)
     if rest or per_device == 0:
         raise InputError(

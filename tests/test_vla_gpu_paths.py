@@ -17,6 +17,7 @@ from payload import PlantedCode
 from safetensors.torch import load_file
 from transformers import PaliGemmaForConditionalGeneration
 
+from mobilemani_rl.registry import InputError
 from mobilemani_vla.backbone import paligemma_config
 from mobilemani_vla.checkpoint import EMA_WEIGHTS, FSDP_SHARDS, FSDP_WEIGHTS, WEIGHTS, load_checkpoint
 from mobilemani_vla.config import ModelCfg, compose_vla_cfg
@@ -24,7 +25,7 @@ from mobilemani_vla.model import build_model
 from mobilemani_vla.policies.vla import VLAEvalPolicy
 from mobilemani_vla.synthetic import write_synthetic_dataset
 from mobilemani_vla.tokenizer import build_word_tokenizer, load_tokenizer
-from mobilemani_vla.train import train
+from mobilemani_vla.train import check_main_process_features, train
 
 ROOT = Path(__file__).resolve().parents[1]
 
@@ -148,3 +149,16 @@ def test_two_process_training_saves_every_rank_and_resumes(tmp_path):
     last = json.loads((run_dir / "last_run.json").read_text())
     assert last["checkpoint"].endswith("step_00000030")
     assert len(last["losses"]) == 10 and np.isfinite(last["losses"]).all()  # the resumed run: steps 21-30
+
+
+def test_sharded_fsdp_refuses_what_needs_the_whole_model_on_one_process():
+    paper = compose_vla_cfg(["vla/train=paper"]).train  # no EMA; held-out diagnostics every 5000 steps
+    with pytest.raises(InputError, match=r"train.diagnose_every=5000 need the whole model .* set them to 0"):
+        check_main_process_features(paper, sharded=True)
+    cpu = compose_vla_cfg([]).train
+    with pytest.raises(InputError, match=r"train.ema_decay=.* and train.diagnose_every=500 need"):
+        check_main_process_features(cpu, sharded=True)
+    check_main_process_features(cpu, sharded=False)  # DDP and one process keep every feature
+    check_main_process_features(
+        compose_vla_cfg(["vla/train=paper", "train.diagnose_every=0"]).train, sharded=True
+    )
