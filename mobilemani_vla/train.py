@@ -75,7 +75,7 @@ def shards_weights(accelerator: Accelerator) -> bool:
 
 def check_main_process_features(train_cfg: TrainCfg, sharded: bool) -> None:
     """The weight EMA and the held-out diagnostics run on the main process's copy of the whole model; with
-    sharded weights the one would average a shard and the other hang or fail at its first step."""
+    sharded weights the one would average a shard and the other hang or fail the first time it runs."""
     if not sharded:
         return
     used = [
@@ -259,7 +259,7 @@ def _train(cfg: VLACfg, held: ExitStack) -> TrainResult:
         final = checkpoint_dir(output_dir, at)
         tmp = final.with_name(f".tmp_{final.name}")
         accelerator.save_state(str(tmp))  # every process writes its part (its RNG state, FSDP shards)
-        weights = accelerator.get_state_dict(model)  # collective; gathers FSDP shards on the main process
+        weights = accelerator.get_state_dict(model)  # FSDP: collective, gathers the shards on the main one
         # save_state ends without a barrier: publishing before every process has written would move the
         # directory from under a process still writing into it.
         accelerator.wait_for_everyone()
