@@ -4,6 +4,7 @@ from pathlib import Path
 
 import pytest
 import torch
+from checkout import ROOT, checkout_env
 from data_helpers import tiny_cfg
 from lerobot.datasets.dataset_metadata import LeRobotDatasetMetadata
 from omegaconf import OmegaConf
@@ -149,7 +150,6 @@ def test_a_checkpoint_from_an_older_dataset_layout_is_refused_by_name():
 
 
 # ---------------------------------------------------- one line per bad input, before anything is written
-ROOT = Path(__file__).resolve().parents[1]
 
 
 def compose_root(name: str, overrides: list[str]):
@@ -187,7 +187,7 @@ def test_entry_points_end_bad_input_with_one_line_and_keep_tracebacks_for_bugs(t
         cwd=ROOT,
         capture_output=True,
         text=True,
-        env={**__import__("os").environ, "PYTHONPATH": str(ROOT)},
+        env=checkout_env(),
     )
     assert done.returncode == 2 and done.stderr == "error: these must be at least 1: subset.episodes=-2\n"
     assert not (tmp_path / "data").exists()

@@ -1,18 +1,15 @@
 """Sweep launcher configs compose, and evaluation files become the paper-style tables."""
 
 import json
-import os
 import subprocess
 import sys
-from pathlib import Path
 
 import pytest
+from checkout import ROOT, checkout_env
 from hydra import compose, initialize_config_dir
 
 from mobilemani_rl import teacher_tables
 from mobilemani_rl.tables import Table
-
-ROOT = Path(__file__).resolve().parents[1]
 
 
 def test_slurm_launcher_config_composes():
@@ -37,7 +34,7 @@ def test_a_sweep_through_submitit_trains_one_run_per_job(tmp_path):
         "task.skill=open",
         "rl/ppo=tiny",
     ]
-    env = {**os.environ, "PYTHONPATH": str(ROOT)}
+    env = checkout_env()
     done = subprocess.run(command, cwd=tmp_path, env=env, capture_output=True, text=True, timeout=600)
     assert done.returncode == 0, done.stderr[-2000:]
     for obj in ("box/0000", "box/0001"):

@@ -2,16 +2,15 @@
 
 import itertools
 import json
-import os
 import signal
 import subprocess
 import sys
 import time
-from pathlib import Path
 
 import numpy as np
 import pytest
 import torch
+from checkout import ROOT, checkout_env
 from hydra import compose, initialize_config_dir
 
 from mobilemani_rl.eval import evaluate
@@ -21,8 +20,6 @@ from mobilemani_rl.rl.run_dir import TRAIN_LOCK, ConfigRules, latest_checkpoint,
 from mobilemani_rl.rl.runner import _shown
 from mobilemani_rl.train import train
 from mobilemani_rl.writer_lock import WriterLock
-
-ROOT = Path(__file__).resolve().parents[1]
 
 
 def compose_rl(overrides: list[str]):
@@ -122,7 +119,7 @@ def test_killed_training_resumes_from_last_checkpoint(tmp_path):
         "rl.ppo.max_iterations=8",
         "rl.ppo.num_steps_per_env=32",
     ]
-    env = {**os.environ, "PYTHONPATH": str(ROOT)}
+    env = checkout_env()
     proc = subprocess.Popen(command, cwd=ROOT, env=env, stdout=subprocess.PIPE, stderr=subprocess.STDOUT)
     deadline = time.time() + 120
     while (run_dir / "model_2.pt").exists() is False and time.time() < deadline and proc.poll() is None:

@@ -3,7 +3,6 @@ dtype, the evaluation policy's diffusion noise comes from a generator on the mod
 (DDP) training saves and resumes every rank."""
 
 import json
-import os
 import pickle
 import shutil
 import subprocess
@@ -13,6 +12,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 import torch
+from checkout import checkout_env
 from payload import PlantedCode
 from safetensors.torch import load_file
 from transformers import PaliGemmaForConditionalGeneration
@@ -26,8 +26,6 @@ from mobilemani_vla.policies.vla import VLAEvalPolicy
 from mobilemani_vla.synthetic import write_synthetic_dataset
 from mobilemani_vla.tokenizer import build_word_tokenizer, load_tokenizer
 from mobilemani_vla.train import check_main_process_features, train
-
-ROOT = Path(__file__).resolve().parents[1]
 
 
 @pytest.fixture(scope="module")
@@ -135,7 +133,7 @@ def test_two_process_training_saves_every_rank_and_resumes(tmp_path):
         "train.batch_size=8",
         "train.progress=false",
     ]
-    env = {**os.environ, "ACCELERATE_USE_CPU": "1", "PYTHONPATH": str(ROOT)}
+    env = checkout_env(ACCELERATE_USE_CPU="1")
     for steps in (20, 30):
         done = subprocess.run(
             [*launch, *settings, f"train.steps={steps}"], env=env, capture_output=True, text=True, timeout=600
