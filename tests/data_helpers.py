@@ -4,13 +4,14 @@ from __future__ import annotations
 
 from pathlib import Path
 
+from checkout import ROOT
 from hydra import compose, initialize_config_dir
 
 from mobilemani_data.config import DataCfg
 from mobilemani_rl.envs.config import with_env_task
 from mobilemani_rl.schema import to_dataclass
 
-CONF = Path(__file__).resolve().parents[1] / "conf"
+CONF = ROOT / "conf"
 
 
 def tiny_cfg(workdir: Path, *overrides: str) -> DataCfg:

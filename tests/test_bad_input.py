@@ -76,7 +76,7 @@ def test_non_positive_evaluation_counts_name_their_keys():
     from mobilemani_rl.schema import to_dataclass
     from mobilemani_vla.eval_config import EvalCfg
 
-    conf = str(Path(__file__).resolve().parents[1] / "conf")
+    conf = str(ROOT / "conf")
     with initialize_config_dir(config_dir=conf, version_base="1.3"):
         cfg = compose(config_name="eval", overrides=["episodes_per_batch=0", "workers=0"])
     with pytest.raises(ValueError, match="episodes_per_batch=0, workers=0"):

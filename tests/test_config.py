@@ -1,8 +1,7 @@
 """The Hydra YAML tree takes its defaults from the dataclass configs."""
 
-from pathlib import Path
-
 import pytest
+from checkout import ROOT
 from hydra import compose, initialize_config_dir
 from omegaconf.errors import ConfigKeyError
 
@@ -10,7 +9,7 @@ from mobilemani_rl.envs.config import EnvCfg, TaskCfg
 from mobilemani_rl.rl.config import RLCfg
 from mobilemani_rl.schema import to_dataclass
 
-CONF = str(Path(__file__).resolve().parents[1] / "conf")
+CONF = str(ROOT / "conf")
 
 
 def compose_rl(overrides: list[str]):

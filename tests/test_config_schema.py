@@ -4,6 +4,7 @@ import shutil
 from pathlib import Path
 
 import pytest
+from checkout import ROOT
 from hydra import compose, initialize_config_dir
 from hydra.errors import ConfigCompositionException
 from omegaconf import OmegaConf
@@ -16,7 +17,7 @@ from mobilemani_rl.schema import to_dataclass
 from mobilemani_vla.config import ROOT_ONLY, VLACfg
 from mobilemani_vla.eval_config import EvalCfg
 
-CONF = Path(__file__).resolve().parents[1] / "conf"
+CONF = ROOT / "conf"
 
 # Each root's conversion, as its entry points do it.
 CONVERT = {

@@ -9,6 +9,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from checkout import ROOT
 from hydra import compose, initialize_config_dir
 from omegaconf import OmegaConf
 
@@ -33,7 +34,7 @@ from mobilemani_vla.results import ResultsFile, read_records, record_key
 from mobilemani_vla.synthetic import write_synthetic_dataset
 from mobilemani_vla.train import train as train_vla
 
-CONF = str(Path(__file__).resolve().parents[1] / "conf")
+CONF = str(ROOT / "conf")
 ENSEMBLE = EnsembleCfg()
 
 

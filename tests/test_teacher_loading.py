@@ -7,6 +7,7 @@ from pathlib import Path
 
 import pytest
 import torch
+from checkout import ROOT
 from data_helpers import tiny_cfg
 from hydra import compose, initialize_config_dir
 from payload import PlantedCode
@@ -25,7 +26,7 @@ from mobilemani_rl.teacher import (
 )
 from mobilemani_rl.train import train
 
-CONF = str(Path(__file__).resolve().parents[1] / "conf")
+CONF = str(ROOT / "conf")
 
 
 @pytest.fixture(scope="module")

@@ -7,6 +7,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 import torch
+from checkout import ROOT
 from hydra import compose, initialize_config_dir
 from payload import PlantedCode
 
@@ -25,7 +26,7 @@ from mobilemani_vla.synthetic import write_synthetic_dataset
 from mobilemani_vla.tokenizer import build_word_tokenizer
 from mobilemani_vla.train import train
 
-CONF = str(Path(__file__).resolve().parents[1] / "conf")
+CONF = str(ROOT / "conf")
 EXPERIMENTS = sorted(p.stem for p in (Path(CONF) / "experiment").glob("ablation_*.yaml"))
 ALIASES = {"ablation_depth": "ablation_image_head_rgbd"}  # the paper's name for that row
 
