@@ -10,6 +10,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from checkout import ROOT
 from data_helpers import tiny_cfg
 
 from mobilemani_data.collect import collect
@@ -22,7 +23,6 @@ from mobilemani_rl.registry import ConfigMismatchError, InputError, MissingFileE
 from mobilemani_rl.tasks import select_combinations
 from mobilemani_rl.writer_lock import WriterLock
 
-ROOT = Path(__file__).resolve().parents[1]
 # One object, both skills, both scenes: four shards.
 SUBSET = ["subset.objects=[dishwasher/0000]", "subset.episodes=2"]
 

@@ -146,7 +146,7 @@ def test_tiny_ppo_teacher_through_the_harness_reproduces_its_own_evaluation(tmp_
 @pytest.mark.slow
 def test_trained_box_teacher_reproduces_its_success_rate():
     """The real g1 open test/box checkpoint: 256 episodes, seed 1000, as `python -m mobilemani_rl.eval`."""
-    checkpoint = latest_checkpoint(Path(__file__).resolve().parents[1] / "runs/rl/g1/test/box/open")
+    checkpoint = latest_checkpoint(ROOT / "runs/rl/g1/test/box/open")
     if checkpoint is None:
         pytest.skip(
             "no trained teacher in runs/rl/g1/test/box/open (make rl ROBOT=g1 OBJECT=test/box SKILL=open)"
@@ -206,16 +206,15 @@ def test_a_killed_evaluation_reruns_to_exact_counts(tmp_path):
     episodes, and the results hold each episode once."""
     command = [sys.executable, "-m", "mobilemani_vla.evaluate", "eval/policy=random", "eval/protocol=small"]
     command += ["episodes_per_batch=1", f"output_dir={tmp_path}"]
-    root = Path(__file__).resolve().parents[1]
     path = tmp_path / "g1" / "default" / "test_objects_test_scenes.jsonl"
-    run = subprocess.Popen(command, cwd=root, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+    run = subprocess.Popen(command, cwd=ROOT, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
     deadline = time.time() + 120
     while not (path.is_file() and path.read_text()) and time.time() < deadline and run.poll() is None:
         time.sleep(0.01)
     run.kill()
     run.wait()
     assert 1 <= len(read_records(path)) < 10, "the kill should land between the first and the last block"
-    rerun = subprocess.run(command, cwd=root, capture_output=True, text=True)
+    rerun = subprocess.run(command, cwd=ROOT, capture_output=True, text=True)
     assert rerun.returncode == 0, rerun.stderr
     keys = [record_key(r) for r in read_records(path)]
     assert len(keys) == len(set(keys)) == 10

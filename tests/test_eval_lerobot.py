@@ -1,7 +1,6 @@
 """LeRobot policies (ACT, Diffusion Policy, SmolVLA) built for our dataset, saved and loaded back with
 LeRobot's API, run through the harness."""
 
-import os
 import subprocess
 import sys
 from pathlib import Path
@@ -9,6 +8,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 import torch
+from checkout import ROOT, checkout_env
 
 from mobilemani_data import schema
 from mobilemani_rl.envs.config import EnvCfg, TaskCfg
@@ -20,7 +20,6 @@ from mobilemani_vla.smolvla_backbone import write_smolvlm_backbone
 from mobilemani_vla.synthetic import write_synthetic_dataset
 
 HEAD_RGB = schema.image_key("head", "rgb")
-REPO = Path(__file__).resolve().parents[1]
 
 
 def save_tiny_policy(
@@ -168,8 +167,8 @@ def smolvla_dir(tmp_path_factory) -> Path:
     ]
     done = subprocess.run(
         [sys.executable, "-m", "mobilemani_vla.lerobot_train", *flags, *run],
-        cwd=REPO,
-        env={**os.environ, "HF_HUB_OFFLINE": "1", "WANDB_MODE": "disabled"},
+        cwd=ROOT,
+        env=checkout_env(HF_HUB_OFFLINE="1", WANDB_MODE="disabled"),
         capture_output=True,
         text=True,
     )

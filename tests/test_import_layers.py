@@ -5,8 +5,7 @@ import ast
 from pathlib import Path
 
 import pytest
-
-ROOT = Path(__file__).resolve().parents[1]
+from checkout import ROOT
 
 # (package or subpackage whose files are checked, module prefixes none of them may import)
 RULES = [

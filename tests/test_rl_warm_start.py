@@ -1,11 +1,11 @@
 """Warm start of a PPO teacher from the scripted policy: labels, returns, cloning and its use in training."""
 
 import json
-from pathlib import Path
 
 import numpy as np
 import pytest
 import torch
+from checkout import ROOT
 from hydra import compose, initialize_config_dir
 from tensordict import TensorDict
 
@@ -18,7 +18,6 @@ from mobilemani_rl.rl.warm_start import collect, discounted_returns, warm_start
 from mobilemani_rl.schema import to_dataclass
 from mobilemani_rl.train import train
 
-ROOT = Path(__file__).resolve().parents[1]
 TINY = [
     "rl/ppo=tiny",
     "task.object=test/can",
