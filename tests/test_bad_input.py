@@ -237,7 +237,11 @@ def test_command_line_tools_name_the_bad_option(module, argv, message, capsys, t
     [
         ("rl.ppo.num_envs=0", "rl.ppo.num_envs=0"),
         ("rl.ppo.max_iterations=-1", "rl.ppo.max_iterations=-1"),
-        ("task.object=nope/0000", "unknown object 'nope/0000'; valid objects: box/0000"),
+        (
+            "task.object=nope/0000",
+            r"unknown task.object 'nope/0000'; valid: an object \(box/0000 to box/0013, .*, test/can\) "
+            r"or a category, .*\(box, toilet, ",
+        ),
         ("task.skill=fly", "unknown skill 'fly'; valid skills: close, open"),
         ("logger=foo", "unknown logger 'foo'; valid loggers: tensorboard, wandb"),
         ("rl.ppo.activation=foo", "rl.ppo.activation: Invalid activation function 'foo'"),

@@ -10,6 +10,7 @@ from dataclasses import dataclass, field, fields
 from mobilemani_rl.envs.config import EnvCfg, EnvParamsCfg, TaskCfg, check_env_block
 from mobilemani_rl.registry import (
     InputError,
+    UnknownNameError,
     check_choice,
     check_positive,
     check_torch_device,
@@ -107,7 +108,7 @@ class RLCfg:
         # imported here: the schema module stays light (no torch, no object catalogue) for config tools
         from rsl_rl.utils import resolve_nn_activation
 
-        from mobilemani_rl.assets.objects import ALL_SKILLS, CATEGORIES, check_skill, get_object
+        from mobilemani_rl.assets.objects import ALL_SKILLS, CATEGORIES, OBJECTS, check_skill, object_choices
         from mobilemani_rl.assets.robots import get_robot
 
         ppo = self.rl.ppo
@@ -179,8 +180,13 @@ class RLCfg:
         get_robot(self.task.robot)
         if self.task.object in CATEGORIES:
             check_choice(self.task.skill, ALL_SKILLS, "skill")
+        elif self.task.object in OBJECTS:
+            check_skill(OBJECTS[self.task.object], self.task.skill)
         else:
-            check_skill(get_object(self.task.object), self.task.skill)
+            raise UnknownNameError(
+                f"unknown task.object {self.task.object!r}; valid: an object ({object_choices()}) "
+                f"or a category, which trains one policy for several of its objects ({', '.join(CATEGORIES)})"
+            )
         check_env_block(self.env, {"num_envs": "rl.ppo.num_envs", "seed": "rl.ppo.seed"})
         return self
 

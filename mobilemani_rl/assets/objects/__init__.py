@@ -4,13 +4,21 @@ from mobilemani_rl.assets.objects.catalog import CATALOG, CATEGORIES, SPLITS, Ta
 from mobilemani_rl.assets.objects.categories import ALL_SKILLS, CATEGORY_PARAMS, ObjectKind, Place
 from mobilemani_rl.assets.objects.handmade import TEST_OBJECTS
 from mobilemani_rl.assets.objects.model import ObjectKinematics, ObjectModel
-from mobilemani_rl.registry import UnknownNameError, check_choice, lookup
+from mobilemani_rl.registry import UnknownNameError, check_choice
 
 OBJECTS: dict[str, ObjectModel] = {**TEST_OBJECTS, **CATALOG}
 
 
+def object_choices() -> str:
+    """The valid object ids, one span per category: the catalogue's hundreds of names would bury the error."""
+    spans = [f"{ids[0]} to {ids[-1]}" for ids in map(catalog_ids, CATEGORIES)]
+    return ", ".join([*spans, *TEST_OBJECTS])
+
+
 def get_object(object_id: str) -> ObjectModel:
-    return lookup(OBJECTS, object_id, "object")
+    if object_id not in OBJECTS:
+        raise UnknownNameError(f"unknown object {object_id!r}; valid objects: {object_choices()}")
+    return OBJECTS[object_id]
 
 
 def check_skill(obj: ObjectModel, skill: str) -> str:
@@ -38,5 +46,6 @@ __all__ = [
     "catalog_ids",
     "check_skill",
     "get_object",
+    "object_choices",
     "task_table",
 ]
