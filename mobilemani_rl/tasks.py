@@ -103,8 +103,20 @@ def select_combinations(robot: str, subset: SubsetCfg) -> list[Combination]:
             for scene in scenes
         ]
     if not combos:
-        raise UnknownNameError(f"the subset {subset} selects no (object, skill, scene) combination")
+        raise UnknownNameError(f"nothing to run: {_why_empty(subset, scene_split)}")
     return combos
+
+
+def _why_empty(subset: SubsetCfg, scene_split: str) -> str:
+    """Which of the subset's keys left no combination, with what the selected objects do offer."""
+    objects = [get_object(oid) for oid in _object_ids(subset)]
+    more = f" and {len(objects) - 3} more" if len(objects) > 3 else ""
+    named = f"the selected objects ({', '.join(o.object_id for o in objects[:3])}{more})"
+    skills = sorted({s for o in objects for s in o.skills})
+    if subset.skills is not None and not set(subset.skills) & set(skills):
+        return f"subset.skills={subset.skills}, but {named} offer {', '.join(skills)}"
+    scenes = sorted({p.scene_id for o in objects for p in placements_for(o, scene_split)})
+    return f"subset.scenes={subset.scenes} names none of the scenes of {named}: {', '.join(scenes)}"
 
 
 def recording_env_cfg(base: EnvCfg, task: TaskCfg, num_envs: int, seed: int) -> EnvCfg:

@@ -61,6 +61,16 @@ def test_unknown_names_stop_with_the_valid_choices():
         select_combinations("h1", SubsetCfg())
 
 
+def test_an_empty_selection_names_the_key_that_emptied_it():
+    # `make recipe RECIPE_SKILL=pull` asks box for a skill it does not have
+    with pytest.raises(
+        UnknownNameError, match=r"subset.skills=\['pull'\], but .*\(test/box\) offer close, open$"
+    ):
+        select_combinations("g1", SubsetCfg(objects=["test/box"], skills=["pull"]))
+    with pytest.raises(UnknownNameError, match=r"subset.scenes=\['door/00'\] .* tabletop/16, "):
+        select_combinations("g1", SubsetCfg(objects=["test/box"], split="test", scenes=["door/00"]))
+
+
 @pytest.mark.parametrize("subset", ["small", "tiny", "train", "test"])
 def test_hydra_tree_converts_to_the_dataclasses(subset):
     with initialize_config_dir(config_dir=str(CONF), version_base="1.3"):
