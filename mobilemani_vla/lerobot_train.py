@@ -16,9 +16,10 @@ from contextlib import nullcontext
 from mobilemani_data.metadata import open_dataset_metadata
 from mobilemani_data.video import quiet_video_libraries
 from mobilemani_rl.cli import entry_point
-from mobilemani_rl.registry import InputError
+from mobilemani_rl.registry import InputError, check_values
 
 FLAG = "--frame_cache="
+COUNTS = ("steps", "batch_size")
 
 
 def frame_cache_flag(argv: list[str]) -> tuple[bool, list[str]]:
@@ -29,13 +30,22 @@ def frame_cache_flag(argv: list[str]) -> tuple[bool, list[str]]:
     return (values[-1] if values else "true") == "true", [arg for arg in argv if not arg.startswith(FLAG)]
 
 
-def check_dataset(argv: list[str]) -> None:
-    """The local dataset `--dataset.root=` names, with every file it lists: LeRobot would fall back to the hub
-    for a missing one and fail offline, naming none."""
+def check_arguments(argv: list[str]) -> None:
+    """The counts LeRobot takes unchecked (`--steps=0` trains nothing, saves nothing and exits 0;
+    `--batch_size=0` ends in torch's DataLoader once the dataset is loaded), and the local dataset
+    `--dataset.root=` names, with every file it lists: LeRobot would fall back to the hub for a missing one
+    and fail offline, naming none."""
     parser = argparse.ArgumentParser(add_help=False, allow_abbrev=False)  # `--key=value` or `--key value`
     parser.add_argument("--dataset.root", dest="root")
     parser.add_argument("--dataset.repo_id", dest="repo_id", default="local/dataset")
+    for count in COUNTS:
+        parser.add_argument(f"--{count}")
     given, _ = parser.parse_known_args(argv)
+    check_values(
+        (f"--{count}", value, value.isdigit() and int(value) >= 1, "a whole number of at least 1")
+        for count in COUNTS
+        if (value := getattr(given, count)) is not None
+    )
     if given.root is not None:
         open_dataset_metadata(given.repo_id, given.root)
 
@@ -44,7 +54,7 @@ def check_dataset(argv: list[str]) -> None:
 def main() -> None:
     use_cache, sys.argv[1:] = frame_cache_flag(sys.argv[1:])
     quiet_video_libraries()
-    check_dataset(sys.argv[1:])
+    check_arguments(sys.argv[1:])
     # Imported after the log filter is in place: lerobot warns about torchcodec while importing.
     from lerobot.scripts.lerobot_train import main as lerobot_train
 

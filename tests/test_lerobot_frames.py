@@ -11,7 +11,7 @@ from lerobot.datasets.lerobot_dataset import LeRobotDataset
 from mobilemani_data import schema
 from mobilemani_rl.registry import InputError
 from mobilemani_vla.lerobot_frames import served_from_frame_cache
-from mobilemani_vla.lerobot_train import check_dataset, frame_cache_flag
+from mobilemani_vla.lerobot_train import check_arguments, frame_cache_flag
 from mobilemani_vla.synthetic import write_synthetic_dataset
 
 
@@ -61,10 +61,19 @@ def test_the_dataset_given_to_lerobot_train_is_checked_before_lerobot_opens_it(t
     nowhere = tmp_path / "nowhere"
     for given in ([f"--dataset.root={nowhere}"], ["--dataset.root", str(nowhere)]):  # both of LeRobot's forms
         with pytest.raises(FileNotFoundError, match=f"dataset {nowhere} does not exist"):
-            check_dataset(["--policy.type=act", "--dataset.streaming", *given])
+            check_arguments(["--policy.type=act", "--dataset.streaming", *given])
     root = write_synthetic_dataset(tmp_path / "g1", episodes=1, length=5)
-    check_dataset([f"--dataset.root={root}", "--dataset.repo_id=mobilemani/g1"])
+    check_arguments([f"--dataset.root={root}", "--dataset.repo_id=mobilemani/g1"])
     (root / "meta" / "info.json").unlink()
     with pytest.raises(FileNotFoundError, match="meta/info.json"):
-        check_dataset([f"--dataset.root={root}"])
-    check_dataset(["--resume=true", "--config_path=train_config.json"])  # its config names the dataset
+        check_arguments([f"--dataset.root={root}"])
+    check_arguments(["--resume=true", "--config_path=train_config.json"])  # its config names the dataset
+
+
+@pytest.mark.parametrize("given", [["--steps=0"], ["--batch_size", "0"], ["--steps=abc"], ["--steps=-2"]])
+def test_lerobot_trains_only_with_counts_of_at_least_one(given):
+    """`make lerobot LEROBOT_STEPS=0` trained nothing, exited 0 and left evaluation to find no checkpoint."""
+    key = given[0].split("=")[0]
+    with pytest.raises(InputError, match=f"invalid values: {key}=.* \\(a whole number of at least 1\\)"):
+        check_arguments(["--policy.type=act", *given])
+    check_arguments(["--steps=3", "--batch_size=16"])
