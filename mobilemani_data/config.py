@@ -11,9 +11,12 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 from typing import get_args
 
+import av
+
+from mobilemani_data import schema
 from mobilemani_rl.base_frame import Convention
 from mobilemani_rl.envs.config import EnvCfg, EnvParamsCfg, RobotChoiceCfg, check_env_block
-from mobilemani_rl.registry import check_choice, check_positive, check_values
+from mobilemani_rl.registry import InputError, check_choice, check_positive, check_values
 from mobilemani_rl.schema import register_schema
 from mobilemani_rl.tasks import SubsetCfg
 
@@ -67,6 +70,29 @@ class ExportCfg:
     # rooms' colours. 0: the rooms as built (the paper's data); `make recipe` and `make demo` use 0.6.
     room_repaint: float = 0.0
     overwrite: bool = False
+
+    def check(self) -> None:
+        """Streams non-empty, known and without repeats, room_repaint in [0, 1], vcodec an encoder: checked
+        with the rest of DataCfg, so `make data` stops before collecting, not after."""
+        for key, values, valid in (
+            ("export.cameras", self.cameras, schema.CAMERAS),
+            ("export.modalities", self.modalities, schema.MODALITIES),
+        ):
+            if not values or any(v not in valid for v in values) or len(set(values)) != len(values):
+                raise InputError(
+                    f"invalid {key} {list(values)}: name one or more of {list(valid)}, without repeats"
+                )
+        if not 0.0 <= self.room_repaint <= 1.0:
+            raise InputError(
+                f"export.room_repaint={self.room_repaint} must lie in [0, 1] (0: rooms as built)"
+            )
+        try:
+            av.Codec(self.vcodec, "w")
+        except av.codec.codec.UnknownCodecError as err:  # only PyAV knows this ffmpeg's encoders
+            raise InputError(
+                f"export.vcodec={self.vcodec!r} is no video encoder of this ffmpeg; "
+                "e.g. libsvtav1 (the default) or h264"
+            ) from err
 
 
 @dataclass
@@ -141,6 +167,7 @@ class DataCfg:
             ]
         )
         check_choice(self.export.action_convention, get_args(Convention), "export.action_convention")
+        self.export.check()
         check_env_block(self.env, {"num_envs": "collect.num_envs", "seed": "collect.seed"})
         return self
 

@@ -20,7 +20,6 @@ import zlib
 from dataclasses import dataclass, field
 from pathlib import Path
 
-import av
 import hydra
 import numpy as np
 from lerobot.configs.video import RGBEncoderConfig
@@ -36,7 +35,7 @@ from mobilemani_data.shards import Shard, ShardError, read_shard, shard_paths
 from mobilemani_rl.assets.robots import RobotDescription, get_robot
 from mobilemani_rl.cli import entry_point
 from mobilemani_rl.envs.config import with_env_task
-from mobilemani_rl.registry import InputError, MissingFileError, OutputExistsError
+from mobilemani_rl.registry import MissingFileError, OutputExistsError
 from mobilemani_rl.render import CameraRenderCfg, CameraRenderer
 from mobilemani_rl.render.appearance import RoomRepainter
 from mobilemani_rl.schema import to_dataclass
@@ -54,28 +53,6 @@ class ExportReport:
     render_s: float = 0.0
     total_s: float = 0.0
     reused: bool = False  # the dataset was already up to date: nothing was rendered
-
-
-def check_streams(cfg: ExportCfg) -> None:
-    """export.cameras / export.modalities: non-empty, known, no repeats; export.room_repaint in [0, 1];
-    export.vcodec: an encoder (checked before anything is written)."""
-    for key, values, valid in (
-        ("export.cameras", cfg.cameras, schema.CAMERAS),
-        ("export.modalities", cfg.modalities, schema.MODALITIES),
-    ):
-        if not values or any(v not in valid for v in values) or len(set(values)) != len(values):
-            raise InputError(
-                f"invalid {key} {list(values)}: name one or more of {list(valid)}, without repeats"
-            )
-    if not 0.0 <= cfg.room_repaint <= 1.0:
-        raise InputError(f"export.room_repaint={cfg.room_repaint} must lie in [0, 1] (0: rooms as built)")
-    try:
-        av.Codec(cfg.vcodec, "w")
-    except av.codec.codec.UnknownCodecError as err:  # only PyAV knows this ffmpeg's encoders
-        raise InputError(
-            f"export.vcodec={cfg.vcodec!r} is no video encoder of this ffmpeg; "
-            "e.g. libsvtav1 (the default) or h264"
-        ) from err
 
 
 def image_keys(cfg: ExportCfg) -> list[str]:
@@ -194,7 +171,6 @@ def up_to_date_report(root: Path, source: dict) -> dict | None:
 def export(cfg: DataCfg) -> ExportReport:
     robot = get_robot(cfg.robot)
     raw_dir, root = Path(cfg.raw_dir), Path(cfg.dataset_dir)
-    check_streams(cfg.export)
     paths = shard_paths(raw_dir, robot.name)
     if not paths:
         raise MissingFileError(

@@ -373,15 +373,19 @@ def test_a_run_saved_before_a_key_existed_resumes_with_its_default(tmp_path):
         save_or_check_config(run_dir, changed, rules)
 
 
-def test_an_unknown_video_encoder_is_refused_by_its_key():
-    from mobilemani_data.config import ExportCfg
-    from mobilemani_data.export import check_streams
+def test_export_values_are_checked_with_the_data_config_before_collection():
+    """`make data` collects before it exports: a bad export value stopped it only after collecting."""
+    from mobilemani_data.config import DataCfg, ExportCfg
 
     with pytest.raises(ValueError, match="export.vcodec='foo' is no video encoder"):
-        check_streams(ExportCfg(vcodec="foo"))
-    check_streams(ExportCfg(vcodec="h264"))
+        ExportCfg(vcodec="foo").check()
+    ExportCfg(vcodec="h264").check()
     with pytest.raises(ValueError, match=r"export.room_repaint=1.5 must lie in \[0, 1\]"):
-        check_streams(ExportCfg(vcodec="h264", room_repaint=1.5))
+        ExportCfg(vcodec="h264", room_repaint=1.5).check()
+    with pytest.raises(
+        ValueError, match=r"invalid export.modalities \['rgb', 'thermal'\]: name one or more of"
+    ):
+        DataCfg(export=ExportCfg(modalities=["rgb", "thermal"])).check()
 
 
 def test_vla_training_counts_and_logger_name_their_keys():
