@@ -127,4 +127,4 @@ def test_export_writes_only_the_chosen_streams_and_stock_policies_see_the_right_
     assert repainted_rgb > 0.02  # images in [0, 1]: the room's colours changed
     assert max((ds[i][depth] - built[i][depth]).abs().mean().item() for i in (0, 100)) < 0.01
     with pytest.raises(ValueError, match=r"export.modalities \['rgb', 'ir'\].*'seg'"):
-        export(replace(cfg, export=replace(cfg.export, modalities=["rgb", "ir"])))
+        replace(cfg, export=replace(cfg.export, modalities=["rgb", "ir"])).check()
