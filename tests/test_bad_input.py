@@ -243,6 +243,11 @@ def test_command_line_tools_name_the_bad_option(module, argv, message, capsys, t
             r"or a category, .*\(box, toilet, ",
         ),
         ("task.skill=fly", "unknown skill 'fly'; valid skills: close, open"),
+        # a category trains one policy for its objects; the default skill, open, is none of holistic's
+        (
+            "task.object=holistic",
+            r"skill 'open' does not apply to holistic/0000 \(rigid\); valid skills for it: pick",
+        ),
         ("logger=foo", "unknown logger 'foo'; valid loggers: tensorboard, wandb"),
         ("rl.ppo.activation=foo", "rl.ppo.activation: Invalid activation function 'foo'"),
         (

@@ -108,7 +108,7 @@ class RLCfg:
         # imported here: the schema module stays light (no torch, no object catalogue) for config tools
         from rsl_rl.utils import resolve_nn_activation
 
-        from mobilemani_rl.assets.objects import ALL_SKILLS, CATEGORIES, OBJECTS, check_skill, object_choices
+        from mobilemani_rl.assets.objects import CATEGORIES, OBJECTS, catalog_ids, check_skill, object_choices
         from mobilemani_rl.assets.robots import get_robot
 
         ppo = self.rl.ppo
@@ -178,8 +178,8 @@ class RLCfg:
         except ValueError as err:
             raise InputError(f"rl.ppo.activation: {err}") from err
         get_robot(self.task.robot)
-        if self.task.object in CATEGORIES:
-            check_choice(self.task.skill, ALL_SKILLS, "skill")
+        if self.task.object in CATEGORIES:  # its objects are of one kind: the first has the category's skills
+            check_skill(OBJECTS[catalog_ids(self.task.object)[0]], self.task.skill)
         elif self.task.object in OBJECTS:
             check_skill(OBJECTS[self.task.object], self.task.skill)
         else:
