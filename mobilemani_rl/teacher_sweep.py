@@ -238,6 +238,12 @@ def main(argv: list[str] | None = None) -> None:
         check_choice(skill, ALL_SKILLS, "skill")
     per_skill = dict(skill_iterations(text) for text in args.skill_iterations)
     todo = rows(args.categories, args.skills)
+    if not todo:  # only a category list can lack every skill asked for
+        offered = sorted({skill for _, skill in rows(args.categories)})
+        raise InputError(
+            f"--skills {' '.join(args.skills)} selects no row of --categories {' '.join(args.categories)}, "
+            f"whose skills are {', '.join(offered)}"
+        )
     overrides = [
         row_overrides(args.robot, c, s, args.runs, hydra_overrides, per_skill.get(s)) for c, s in todo
     ]

@@ -112,6 +112,10 @@ def test_rows_below_the_papers_skill_mean_name_the_stage_they_fall_short_in():
 def test_bad_rows_and_missing_evaluation_are_refused_before_training(tmp_path):
     with pytest.raises(InputError, match="unknown category 'microwav'"):
         teacher_sweep.main(["--runs", str(tmp_path), "--categories", "microwav"])
+    with pytest.raises(
+        InputError, match="--skills pick selects no row of --categories box cart, whose skills are"
+    ):
+        teacher_sweep.main(["--runs", str(tmp_path), "--categories", "box", "cart", "--skills", "pick"])
     with pytest.raises(InputError, match="eval_episodes must be >= 1"):
         teacher_sweep.main(["--runs", str(tmp_path), "rl/ppo=tiny", "eval_episodes=0"])
     assert not any(tmp_path.iterdir())
