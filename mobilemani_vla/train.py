@@ -112,6 +112,11 @@ def _resume_point(cfg: VLACfg, output_dir: Path) -> Path | None:
             f"{found[-1]} was trained with a different {'/'.join(differing)} config; choose another "
             "train.output_dir or set train.resume=false"
         )
+    if (reached := checkpoint_step(found[-1])) > cfg.train.steps:  # it would hand back a longer run's weights
+        raise InputError(
+            f"train.steps={cfg.train.steps}, but {found[-1]} is further on; only train.steps may grow, so "
+            f"ask for {reached} or more, choose another train.output_dir or set train.resume=false"
+        )
     for checkpoint in reversed(found):
         if (why := unreadable_weights(checkpoint) or unreadable_training_state(checkpoint)) is None:
             return checkpoint

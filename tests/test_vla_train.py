@@ -201,6 +201,13 @@ def test_checkpoint_resume_and_policy(dataset_root, tmp_path):
     )
     assert json.loads((resumed.checkpoint / "trainer_state.json").read_text()) == {"step": 5}
 
+    fewer = f"train.steps=4, but {resumed.checkpoint} is further on; only train.steps may grow"
+    with pytest.raises(ValueError, match=fewer):
+        train(
+            tiny_cfg(
+                dataset_root, tmp_path, ["train.steps=4", "inputs.states=[wrist_pose,grasp_point,goal_point]"]
+            )
+        )
     with pytest.raises(ValueError, match="different inputs config"):  # same output_dir, other inputs
         train(tiny_cfg(dataset_root, tmp_path, ["train.steps=6"]))
     other_data = write_synthetic_dataset(tmp_path / "other" / "g1", episodes=2, length=20)
