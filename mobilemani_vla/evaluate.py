@@ -41,7 +41,7 @@ from mobilemani_vla.eval_config import DEFAULT_IMAGE_SIZE, EvalCfg
 from mobilemani_vla.harness import run_batch
 from mobilemani_vla.policies.base import EvalPolicy
 from mobilemani_vla.policies.factory import build_policy
-from mobilemani_vla.results import ResultsFile, read_records, summarize
+from mobilemani_vla.results import ResultsFile, read_records, summarize, summary_path
 
 
 def batch_seed(combo: Combination, base: int, block: int) -> int:
@@ -180,7 +180,7 @@ def evaluate(cfg: EvalCfg, policy: EvalPolicy | None = None) -> dict:
         write_json_atomic(out / "config.json", {"eval": settings, "policy_inputs": sorted(policy.inputs)})
         run_missing_episodes(cfg, policy, combos, results)
         summary = summarize(read_records(results.path))
-        write_json_atomic(out / f"{cfg.split_name}.summary.json", summary)
+        write_json_atomic(summary_path(results.path), summary)
     return summary
 
 

@@ -45,6 +45,18 @@ def read_records(path: Path) -> list[dict]:
     return records
 
 
+def summary_path(results_path: Path) -> Path:
+    """Where an evaluation writes its results file's summary: last, once every episode of the run is in."""
+    return results_path.with_name(f"{results_path.stem}.summary.json")
+
+
+def finished(results_path: Path, records: list[dict]) -> bool:
+    """Whether the evaluation that wrote these records ran to its end. A running, killed or later grown run
+    has no summary, or one of fewer episodes."""
+    path = summary_path(results_path)
+    return path.exists() and json.loads(path.read_text()).get("episodes") == len(records)
+
+
 class ResultsFile:
     """The results file of one run, held by one writer at a time: two evaluations under one name would append
     the same episodes twice."""

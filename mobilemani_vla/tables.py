@@ -8,12 +8,14 @@ per skill and per category (run `--main`, unseen objects x unseen scenes), the i
 ablations (runs named like conf/experiment/ablation_*), seen/unseen objects x scenes (run `--split-run`, its
 four split files) and the model comparison (runs named in MODELS, then every other run), plus PNG bar plots.
 Paper numbers sit beside ours; a '-' marks a result not evaluated yet, and the results files those cells
-wanted are listed at the end.
+wanted are listed at the end. A table that counts a results file whose evaluation has not ended (running or
+stopped: no summary of all its records) names it in its caption, with its episodes so far.
 """
 
 from __future__ import annotations
 
 import argparse
+from collections.abc import Callable
 from pathlib import Path
 
 import numpy as np
@@ -22,7 +24,7 @@ from matplotlib.figure import Figure  # the object API: no pyplot backend to sel
 
 from mobilemani_rl.assets.objects import CATEGORIES, catalog_ids
 from mobilemani_rl.tables import Table, pct
-from mobilemani_vla.results import SKILL_GROUPS, read_records, summarize
+from mobilemani_vla.results import SKILL_GROUPS, finished, read_records, summarize
 
 ROBOTS = ("g1", "xhand")
 SKILLS = ("open", "close", "pull", "push", "pick")
@@ -94,25 +96,37 @@ MODELS = [
 
 
 class RecordingResults(dict):
-    """The loaded results, noting every (robot, run, split) a table looks up and does not find: the tables
-    name their inputs in one place (their own code), and the missing ones can still be reported."""
+    """The loaded results, noting every (robot, run, split) a table looks up: the tables name their inputs
+    in one place (their own code), so the missing ones can be reported and the unfinished ones marked."""
 
     def __init__(self, results: dict) -> None:
         super().__init__(results)
         self.missing: set[tuple[str, str, str]] = set()
+        self.used: set[tuple[str, str, str]] = set()
 
     def get(self, key, default=None):
-        if key not in self:
-            self.missing.add(key)
+        (self.used if key in self else self.missing).add(key)
         return super().get(key, default)
 
+    def unfinished(self, keys: set[tuple[str, str, str]]) -> str:
+        """'g1/default (4790 episodes so far), ...' for those of `keys` whose evaluation has not ended."""
+        return ", ".join(
+            f"{'/'.join(key)} ({self[key]['episodes']} episodes so far)"
+            for key in sorted(keys)
+            if not self[key]["finished"]
+        )
 
-def load(root: Path) -> dict[tuple[str, str, str], dict]:
-    """(robot, run, split) -> summary of that results file."""
-    return {
-        (p.parts[-3], p.parts[-2], p.stem): summarize(read_records(p))
-        for p in sorted(root.glob("*/*/*.jsonl"))
-    }
+
+def load(root: Path) -> RecordingResults:
+    """(robot, run, split) -> summary of that results file, and whether its evaluation ran to its end."""
+    loaded = {}
+    for path in sorted(root.glob("*/*/*.jsonl")):
+        records = read_records(path)
+        loaded[(path.parts[-3], path.parts[-2], path.stem)] = {
+            **summarize(records),
+            "finished": finished(path, records),
+        }
+    return RecordingResults(loaded)
 
 
 def rate(summary: dict | None, *path: str) -> float | None:
@@ -286,19 +300,30 @@ def bar_plots(results: dict, run: str, out: Path) -> list[Path]:
     return paths
 
 
-def build_tables(results: dict, main_run: str, split_run: str) -> dict[str, Table]:
-    return {
-        "vla_by_skill": skill_table(results, main_run),
-        "vla_by_category": category_table(results, main_run),
-        "vla_ablation_image": ablation_table(
+def build_tables(results: RecordingResults, main_run: str, split_run: str) -> dict[str, Table]:
+    builders = {
+        "vla_by_skill": lambda: skill_table(results, main_run),
+        "vla_by_category": lambda: category_table(results, main_run),
+        "vla_ablation_image": lambda: ablation_table(
             results, IMAGE_ABLATION, "Image-input ablation of MobileManiVLA (G1, ablation subset)."
         ),
-        "vla_ablation_state": ablation_table(
+        "vla_ablation_state": lambda: ablation_table(
             results, STATE_ABLATION, "State-input ablation of MobileManiVLA (G1, ablation subset)."
         ),
-        "vla_seen_unseen": split_table(results, split_run),
-        "vla_models": model_table(results),
+        "vla_seen_unseen": lambda: split_table(results, split_run),
+        "vla_models": lambda: model_table(results),
     }
+    return {name: marking_unfinished(results, build) for name, build in builders.items()}
+
+
+def marking_unfinished(results: RecordingResults, build: Callable[[], Table]) -> Table:
+    """The table, its caption naming the results it used from evaluations that have not ended: their cells
+    count only the episodes run so far."""
+    results.used.clear()
+    table = build()
+    if unfinished := results.unfinished(results.used):
+        table.caption += f" Unfinished evaluations: {unfinished}."
+    return table
 
 
 def main() -> None:
@@ -310,7 +335,7 @@ def main() -> None:
     parser.add_argument("--main", default="default", help="run of the per-skill and per-category tables")
     parser.add_argument("--split-run", default="ablation_image_all", help="run of the seen/unseen table")
     args = parser.parse_args()
-    results = RecordingResults(load(args.root))
+    results = load(args.root)
     args.out.mkdir(parents=True, exist_ok=True)
     for name, table in build_tables(results, args.main, args.split_run).items():
         print(table.markdown())
@@ -319,6 +344,8 @@ def main() -> None:
     for path in bar_plots(results, args.main, args.out):
         print(f"wrote {path}")
     print(f"results under {args.root}: {', '.join('/'.join(key) for key in sorted(results)) or 'none'}")
+    if unfinished := results.unfinished(set(results)):
+        print(f"unfinished evaluations (still running or stopped; rerun `make eval` to finish): {unfinished}")
     if results.missing:
         print(
             "missing inputs (their cells show '-'; `make eval NAME=<run> [SPLIT=..]` writes "

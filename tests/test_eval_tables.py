@@ -4,10 +4,19 @@ import json
 from pathlib import Path
 
 from mobilemani_vla import tables as vla_tables
+from mobilemani_vla.results import read_records, summarize, summary_path
 from mobilemani_vla.tables import PROTOCOL_SPLIT, bar_plots, build_tables, load
 
 
-def write_run(root: Path, robot: str, run: str, split: str, outcomes: dict[tuple[str, str, str], list[bool]]):
+def write_run(
+    root: Path,
+    robot: str,
+    run: str,
+    split: str,
+    outcomes: dict[tuple[str, str, str], list[bool]],
+    finished: bool = True,
+) -> Path:
+    """A results file as `make eval` writes it, with the summary it writes last when `finished`."""
     path = root / robot / run / f"{split}.jsonl"
     path.parent.mkdir(parents=True, exist_ok=True)
     lines = [
@@ -26,6 +35,9 @@ def write_run(root: Path, robot: str, run: str, split: str, outcomes: dict[tuple
         for e, ok in enumerate(results)
     ]
     path.write_text("\n".join(lines) + "\n")
+    if finished:
+        summary_path(path).write_text(json.dumps(summarize(read_records(path))))
+    return path
 
 
 def test_tables_and_plots_from_results(tmp_path):
@@ -94,3 +106,27 @@ def test_tables_name_the_results_they_miss(tmp_path, monkeypatch, capsys):
     assert f"{root}/xhand/default/{PROTOCOL_SPLIT}.jsonl" in missing
     assert f"{root}/g1/ablation_image_all/train_objects_train_scenes.jsonl" in missing
     assert "vla_open" not in missing
+
+
+def test_tables_mark_what_they_count_from_unfinished_evaluations(tmp_path, monkeypatch, capsys):
+    """`make tables` beside a running or stopped `make eval`: its cells count the episodes so far, and say
+    so."""
+    root = tmp_path / "eval"
+    outcomes = {("box/0010", "open", "tabletop/16"): [True, False, False]}
+    running = write_run(root, "g1", "default", PROTOCOL_SPLIT, outcomes, finished=False)
+    write_run(root, "xhand", "default", PROTOCOL_SPLIT, outcomes)
+    write_run(root, "g1", "lerobot_act", PROTOCOL_SPLIT, outcomes)
+    tables = build_tables(load(root), "default", "ablation_image_all")
+    note = f"Unfinished evaluations: g1/default/{PROTOCOL_SPLIT} (3 episodes so far).**"
+    assert "| Open | 33.3 | 33.3 |" in tables["vla_by_skill"].markdown()
+    assert note in tables["vla_by_skill"].markdown() and note in tables["vla_by_category"].markdown()
+    assert "Unfinished" not in tables["vla_models"].markdown()  # it shows lerobot_act, not default
+    # a finished run that a later, larger protocol is growing: its summary counts fewer episodes
+    summary_path(running).write_text(json.dumps(summarize(read_records(running)[:2])))
+    assert "Unfinished" in build_tables(load(root), "default", "x")["vla_by_skill"].caption
+    monkeypatch.setattr("sys.argv", ["tables", str(root), "--out", str(tmp_path / "out")])
+    vla_tables.main()
+    out = capsys.readouterr().out
+    assert (
+        "unfinished evaluations (still running or stopped; rerun `make eval` to finish): g1/default/" in out
+    )
