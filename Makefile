@@ -169,20 +169,17 @@ LEROBOT_FLAGS_smolvla = --policy.vlm_model_name=$(SMOLVLM) --policy.load_vlm_wei
 	--policy.chunk_size=16 --policy.n_action_steps=16
 LEROBOT_LAST = $(LEROBOT_OUT)/checkpoints/last
 LEROBOT_TRAIN = HF_HUB_OFFLINE=1 $(PY) -m mobilemani_vla.lerobot_train
-# A finished run is skipped; an interrupted one resumes from its last checkpoint (saved every quarter of the steps);
-# one interrupted before its first checkpoint has nothing to resume and starts again.
+# Rerunning continues (mobilemani_vla.lerobot_train): a finished run is skipped, an interrupted one resumes from
+# its last checkpoint (saved every quarter of the steps), more LEROBOT_STEPS go on from it; fewer, or another
+# policy, dataset or batch size in the same LEROBOT_OUT, are refused by name.
 .PHONY: lerobot
 lerobot: setup
 	$(if $(filter smolvla,$(LEROBOT_POLICY)),test -f $(SMOLVLM)/config.json || $(PY) -m mobilemani_vla.smolvla_backbone $(SMOLVLM))
-	@step=$$($(PY) -c "import json; print(json.load(open('$(LEROBOT_LAST)/training_state/training_step.json'))['step'])" \
-		2>/dev/null || echo none); \
-	if [ "$$step" = "$(LEROBOT_STEPS)" ]; then echo "$(LEROBOT_OUT): trained $$step steps already"; \
-	elif [ "$$step" != none ]; then $(LEROBOT_TRAIN) --resume=true --config_path=$(LEROBOT_LAST)/pretrained_model/train_config.json; \
-	else rm -rf $(LEROBOT_OUT) && $(LEROBOT_TRAIN) --policy.type=$(LEROBOT_POLICY) $(LEROBOT_FLAGS_$(LEROBOT_POLICY)) \
+	$(LEROBOT_TRAIN) --policy.type=$(LEROBOT_POLICY) $(LEROBOT_FLAGS_$(LEROBOT_POLICY)) \
 		--policy.device=cpu --policy.push_to_hub=false --dataset.repo_id=mobilemani/$(ROBOT) \
 		--dataset.root=$(LEROBOT_DATA) --dataset.video_backend=pyav --num_workers=0 --batch_size=$(LEROBOT_BATCH) \
 		--steps=$(LEROBOT_STEPS) --save_freq=$$(( ($(LEROBOT_STEPS) + 3) / 4 )) --log_freq=50 --wandb.enable=false \
-		--output_dir=$(LEROBOT_OUT) $(LEROBOT_ARGS); fi
+		--output_dir=$(LEROBOT_OUT) $(LEROBOT_ARGS)
 	$(MAKE) eval ROBOT=$(ROBOT) POLICY=lerobot NAME=lerobot_$(LEROBOT_POLICY) \
 		CHECKPOINT=$(LEROBOT_LAST)/pretrained_model
 

@@ -3,23 +3,32 @@ decodes instead of lerobot's ~60-line torchcodec traceback on every dataset open
 the camera frames read from the frame cache instead of decoded per sample (mobilemani_vla.lerobot_frames).
 LeRobot's arguments, plus `--frame_cache=false` to decode as stock LeRobot does:
 
-    python -m mobilemani_vla.lerobot_train --policy.type=act --dataset.root=<dataset> ... \\
-        [--frame_cache=false]
+    python -m mobilemani_vla.lerobot_train --policy.type=act --dataset.root=<dataset> --output_dir=<run> \\
+        ... [--frame_cache=false]
+
+Rerunning the same command continues, as our own stages do (lerobot-train refuses an existing --output_dir,
+and its `--resume=true` trains to the steps the run was first given): from the run's last checkpoint to
+--steps, nothing when it has them; fewer steps, or another policy type, dataset or batch size, are refused
+by name.
 """
 
 from __future__ import annotations
 
 import argparse
+import json
+import shutil
 import sys
 from contextlib import nullcontext
+from pathlib import Path
 
 from mobilemani_data.metadata import open_dataset_metadata
 from mobilemani_data.video import quiet_video_libraries
 from mobilemani_rl.cli import entry_point
-from mobilemani_rl.registry import InputError, check_values
+from mobilemani_rl.registry import ConfigMismatchError, InputError, OutputExistsError, check_values
 
 FLAG = "--frame_cache="
 COUNTS = ("steps", "batch_size")
+LAST = Path("checkpoints", "last")  # lerobot-train's link to a run's newest checkpoint
 
 
 def frame_cache_flag(argv: list[str]) -> tuple[bool, list[str]]:
@@ -30,24 +39,80 @@ def frame_cache_flag(argv: list[str]) -> tuple[bool, list[str]]:
     return (values[-1] if values else "true") == "true", [arg for arg in argv if not arg.startswith(FLAG)]
 
 
+def given(argv: list[str]) -> argparse.Namespace:
+    """The arguments this wrapper reads, in either of LeRobot's forms (`--key=value`, `--key value`)."""
+    parser = argparse.ArgumentParser(add_help=False, allow_abbrev=False)
+    for key in ("dataset.root", "policy.type", "output_dir", "resume", *COUNTS):
+        parser.add_argument(f"--{key}", dest=key.replace(".", "_"))
+    parser.add_argument("--dataset.repo_id", dest="repo_id", default="local/dataset")
+    return parser.parse_known_args(argv)[0]
+
+
 def check_arguments(argv: list[str]) -> None:
     """The counts LeRobot takes unchecked (`--steps=0` trains nothing, saves nothing and exits 0;
     `--batch_size=0` ends in torch's DataLoader once the dataset is loaded), and the local dataset
     `--dataset.root=` names, with every file it lists: LeRobot would fall back to the hub for a missing one
     and fail offline, naming none."""
-    parser = argparse.ArgumentParser(add_help=False, allow_abbrev=False)  # `--key=value` or `--key value`
-    parser.add_argument("--dataset.root", dest="root")
-    parser.add_argument("--dataset.repo_id", dest="repo_id", default="local/dataset")
-    for count in COUNTS:
-        parser.add_argument(f"--{count}")
-    given, _ = parser.parse_known_args(argv)
+    args = given(argv)
     check_values(
         (f"--{count}", value, value.isdigit() and int(value) >= 1, "a whole number of at least 1")
         for count in COUNTS
-        if (value := getattr(given, count)) is not None
+        if (value := getattr(args, count)) is not None
     )
-    if given.root is not None:
-        open_dataset_metadata(given.repo_id, given.root)
+    if args.dataset_root is not None:
+        open_dataset_metadata(args.repo_id, args.dataset_root)
+
+
+def continued(argv: list[str]) -> list[str] | None:
+    """lerobot-train's arguments for what --output_dir holds: as given for a new run; a resume to --steps from
+    the last checkpoint; None when the run has its --steps already."""
+    args = given(argv)
+    if args.output_dir is None or args.resume is not None or not Path(args.output_dir).exists():
+        return argv
+    run = Path(args.output_dir)
+    if not (run / LAST / "training_state" / "training_step.json").exists():
+        if {p.name for p in run.iterdir()} <= {"checkpoints"}:  # killed while saving its first checkpoint
+            print(f"{run} holds no finished checkpoint: starting it again", flush=True)
+            shutil.rmtree(run)
+            return argv
+        raise OutputExistsError(
+            f"--output_dir={run} exists and is no LeRobot run; choose another or delete it"
+        )
+    reached = json.loads((run / LAST / "training_state" / "training_step.json").read_text())["step"]
+    saved = json.loads((run / LAST / "pretrained_model" / "train_config.json").read_text())
+    changed = changed_settings(saved, args)
+    steps = int(args.steps) if args.steps is not None else saved["steps"]
+    if steps < reached:
+        changed.append(f"--steps: {reached} trained, {steps} asked (only --steps may grow)")
+    if changed:
+        raise ConfigMismatchError(
+            f"{run} was trained with other settings ({'; '.join(changed)}); choose another --output_dir "
+            "(LEROBOT_OUT) or delete it to start over"
+        )
+    if steps == reached:
+        print(f"{run}: trained {reached} steps already", flush=True)
+        return None
+    print(f"{run}: resuming from step {reached} to {steps}", flush=True)
+    return [
+        "--resume=true",
+        f"--config_path={run / LAST / 'pretrained_model' / 'train_config.json'}",
+        f"--steps={steps}",
+    ]
+
+
+def changed_settings(saved: dict, args: argparse.Namespace) -> list[str]:
+    """The settings given that differ from those the run was trained with."""
+    root = args.dataset_root and Path(args.dataset_root).resolve()
+    batch_size = args.batch_size and int(args.batch_size)
+    return [
+        f"--{key}: {old} -> {new}"
+        for key, old, new in (
+            ("policy.type", saved["policy"]["type"], args.policy_type),
+            ("dataset.root", Path(saved["dataset"]["root"]).resolve(), root),
+            ("batch_size", saved["batch_size"], batch_size),
+        )
+        if new is not None and new != old
+    ]
 
 
 @entry_point
@@ -55,6 +120,9 @@ def main() -> None:
     use_cache, sys.argv[1:] = frame_cache_flag(sys.argv[1:])
     quiet_video_libraries()
     check_arguments(sys.argv[1:])
+    if (arguments := continued(sys.argv[1:])) is None:
+        return
+    sys.argv[1:] = arguments
     # Imported after the log filter is in place: lerobot warns about torchcodec while importing.
     from lerobot.scripts.lerobot_train import main as lerobot_train
 

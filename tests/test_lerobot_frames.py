@@ -4,14 +4,11 @@ from __future__ import annotations
 
 from pathlib import Path
 
-import pytest
 import torch
 from lerobot.datasets.lerobot_dataset import LeRobotDataset
 
 from mobilemani_data import schema
-from mobilemani_rl.registry import InputError
 from mobilemani_vla.lerobot_frames import served_from_frame_cache
-from mobilemani_vla.lerobot_train import check_arguments, frame_cache_flag
 from mobilemani_vla.synthetic import write_synthetic_dataset
 
 
@@ -47,33 +44,3 @@ def test_streams_the_cache_cannot_hold_are_decoded(tmp_path, capsys):
     assert "frames decoded per sample" in capsys.readouterr().out and not (root / "vla_cache").exists()
     key = schema.image_key("head", "rgb")
     assert served[key].shape == (2, 3, 48, 64) and torch.equal(served[key], decoded[key])
-
-
-def test_frame_cache_flag_is_taken_out_of_lerobots_arguments():
-    assert frame_cache_flag(["--policy.type=act"]) == (True, ["--policy.type=act"])
-    assert frame_cache_flag(["--frame_cache=false", "--steps=3"]) == (False, ["--steps=3"])
-    with pytest.raises(InputError, match="--frame_cache=yes: give --frame_cache=true"):
-        frame_cache_flag(["--frame_cache=yes"])
-
-
-def test_the_dataset_given_to_lerobot_train_is_checked_before_lerobot_opens_it(tmp_path):
-    """LeRobot falls back to the hub for a missing local file and fails offline, naming none."""
-    nowhere = tmp_path / "nowhere"
-    for given in ([f"--dataset.root={nowhere}"], ["--dataset.root", str(nowhere)]):  # both of LeRobot's forms
-        with pytest.raises(FileNotFoundError, match=f"dataset {nowhere} does not exist"):
-            check_arguments(["--policy.type=act", "--dataset.streaming", *given])
-    root = write_synthetic_dataset(tmp_path / "g1", episodes=1, length=5)
-    check_arguments([f"--dataset.root={root}", "--dataset.repo_id=mobilemani/g1"])
-    (root / "meta" / "info.json").unlink()
-    with pytest.raises(FileNotFoundError, match="meta/info.json"):
-        check_arguments([f"--dataset.root={root}"])
-    check_arguments(["--resume=true", "--config_path=train_config.json"])  # its config names the dataset
-
-
-@pytest.mark.parametrize("given", [["--steps=0"], ["--batch_size", "0"], ["--steps=abc"], ["--steps=-2"]])
-def test_lerobot_trains_only_with_counts_of_at_least_one(given):
-    """`make lerobot LEROBOT_STEPS=0` trained nothing, exited 0 and left evaluation to find no checkpoint."""
-    key = given[0].split("=")[0]
-    with pytest.raises(InputError, match=f"invalid values: {key}=.* \\(a whole number of at least 1\\)"):
-        check_arguments(["--policy.type=act", *given])
-    check_arguments(["--steps=3", "--batch_size=16"])
