@@ -71,12 +71,14 @@ def continued(argv: list[str]) -> list[str] | None:
         return argv
     run = Path(args.output_dir)
     if not (run / LAST / "training_state" / "training_step.json").exists():
-        if {p.name for p in run.iterdir()} <= {"checkpoints"}:  # killed while saving its first checkpoint
+        saved_one = any(run.glob("checkpoints/*/training_state/training_step.json"))
+        if not saved_one and {p.name for p in run.iterdir()} <= {"checkpoints"}:  # killed in its first save
             print(f"{run} holds no finished checkpoint: starting it again", flush=True)
             shutil.rmtree(run)
             return argv
         raise OutputExistsError(
-            f"--output_dir={run} exists and is no LeRobot run; choose another or delete it"
+            f"--output_dir={run} exists without a LeRobot run's {LAST} to resume from; "
+            "choose another or delete it"
         )
     reached = json.loads((run / LAST / "training_state" / "training_step.json").read_text())["step"]
     saved = json.loads((run / LAST / "pretrained_model" / "train_config.json").read_text())

@@ -94,6 +94,14 @@ def test_a_run_killed_before_its_first_checkpoint_starts_again_and_other_directo
     assert continued(args) == args and not (tmp_path / "run").exists()
     (tmp_path / "notes").mkdir()
     (tmp_path / "notes" / "todo.txt").write_text("mine")
-    with pytest.raises(OutputExistsError, match="notes exists and is no LeRobot run"):
-        continued(["--policy.type=act", f"--output_dir={tmp_path / 'notes'}"])
-    assert (tmp_path / "notes" / "todo.txt").exists()
+    # a run whose `last` link is gone (killed while lerobot-train relinked it) keeps its checkpoints
+    trained_run(tmp_path / "unlinked", 500, 2000)
+    (tmp_path / "unlinked" / LAST).unlink()
+    for kept in ("notes", "unlinked"):
+        with pytest.raises(
+            OutputExistsError, match=f"{kept} exists without a LeRobot run's checkpoints/last"
+        ):
+            continued(["--policy.type=act", f"--output_dir={tmp_path / kept}"])
+    assert (tmp_path / "notes" / "todo.txt").exists() and (
+        tmp_path / "unlinked" / "checkpoints" / "000500"
+    ).exists()
