@@ -171,7 +171,8 @@ LEROBOT_LAST = $(LEROBOT_OUT)/checkpoints/last
 LEROBOT_TRAIN = HF_HUB_OFFLINE=1 $(PY) -m mobilemani_vla.lerobot_train
 # Rerunning continues (mobilemani_vla.lerobot_train): a finished run is skipped, an interrupted one resumes from
 # its last checkpoint (saved every quarter of the steps), more LEROBOT_STEPS go on from it; fewer, or another
-# policy, dataset or batch size in the same LEROBOT_OUT, are refused by name.
+# policy, dataset or batch size in the same LEROBOT_OUT, are refused by name. The evaluation names the checkpoint
+# `last` links to, so results of a run trained on are not mixed with its earlier checkpoint's (it refuses them).
 .PHONY: lerobot
 lerobot: setup
 	$(if $(filter smolvla,$(LEROBOT_POLICY)),test -f $(SMOLVLM)/config.json || $(PY) -m mobilemani_vla.smolvla_backbone $(SMOLVLM))
@@ -181,7 +182,7 @@ lerobot: setup
 		--steps=$(LEROBOT_STEPS) --save_freq=$$(( ($(LEROBOT_STEPS) + 3) / 4 )) --log_freq=50 --wandb.enable=false \
 		--output_dir=$(LEROBOT_OUT) $(LEROBOT_ARGS)
 	$(MAKE) eval ROBOT=$(ROBOT) POLICY=lerobot NAME=lerobot_$(LEROBOT_POLICY) \
-		CHECKPOINT=$(LEROBOT_LAST)/pretrained_model
+		CHECKPOINT=$$(cd $(LEROBOT_LAST) && pwd -P)/pretrained_model
 
 # The whole chain at small scale, 21.5-29.2 min after `make setup` on our 2-core machines
 # (docs/results/demo/rgb_batch16.md, docs/results/readme_commands.md; PyTorch runs at half that speed on a slower
