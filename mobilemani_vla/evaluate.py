@@ -128,18 +128,27 @@ RESULT_SETTINGS = (
 )
 
 
-def check_same_settings(out: Path, settings: dict) -> None:
-    """A run directory that holds results keeps the settings they were made with: a rerun with other settings
-    would report the old episodes as its own."""
+def check_same_settings(out: Path, settings: dict, task_checkpoints: dict[str, str]) -> dict[str, str]:
+    """A run directory that holds results keeps the settings they were made with, and each task's looked-up
+    checkpoint (a teacher trained on since is found anew): a rerun otherwise would report the old episodes as
+    its own. Returns the task checkpoints of the old episodes and the new."""
     saved = out / "config.json"
     if not saved.exists() or not any(p.stat().st_size for p in out.glob("*.jsonl")):
-        return
-    changes = changed_values(json.loads(saved.read_text())["eval"], settings, RESULT_SETTINGS)
+        return task_checkpoints
+    config = json.loads(saved.read_text())
+    changes = changed_values(config["eval"], settings, RESULT_SETTINGS)
+    before = config.get("task_checkpoints", {})
+    changes += [
+        f"{task}: {before[task]} -> {path}"
+        for task, path in task_checkpoints.items()
+        if before.get(task, path) != path
+    ]
     if changes:
         raise ConfigMismatchError(
             f"{out} holds results made with other settings ({'; '.join(changes)}); "
             "choose another name=... or delete that directory to start over"
         )
+    return {**before, **task_checkpoints}
 
 
 Block = tuple[int, Combination, int]  # (combination index, combination, block index)
@@ -162,7 +171,6 @@ def evaluate(cfg: EvalCfg, policy: EvalPolicy | None = None) -> dict:
     combos = select_combinations(cfg.robot, cfg.subset)
     out = run_dir(cfg)
     settings = OmegaConf.to_container(OmegaConf.structured(cfg))
-    check_same_settings(out, settings)
     if policy is not None and cfg.workers > 1:
         raise InputError(
             f"workers={cfg.workers}: each worker builds its policy from the policy config; "
@@ -175,9 +183,12 @@ def evaluate(cfg: EvalCfg, policy: EvalPolicy | None = None) -> dict:
             f"{policy.name} predicts {policy.action_dim}-d actions but robot={cfg.robot} takes "
             f"{expected}-d ones; evaluate it with the robot it was trained for"
         )
-    policy.check_tasks({(c.robot, c.object_id, c.skill) for c in combos})
+    tasks = {(c.robot, c.object_id, c.skill) for c in combos}
+    policy.check_tasks(tasks)
+    checkpoints = check_same_settings(out, settings, policy.task_checkpoints(tasks))
     with ResultsFile(out / f"{cfg.split_name}.jsonl") as results:
-        write_json_atomic(out / "config.json", {"eval": settings, "policy_inputs": sorted(policy.inputs)})
+        config = {"eval": settings, "policy_inputs": sorted(policy.inputs), "task_checkpoints": checkpoints}
+        write_json_atomic(out / "config.json", config)
         run_missing_episodes(cfg, policy, combos, results)
         summary = summarize(read_records(results.path))
         write_json_atomic(summary_path(results.path), summary)

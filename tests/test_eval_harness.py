@@ -143,6 +143,26 @@ def test_tiny_ppo_teacher_through_the_harness_reproduces_its_own_evaluation(tmp_
     assert not (tmp_path / "xhand").exists()
 
 
+def test_a_teacher_trained_on_since_is_not_counted_into_its_earlier_results(tmp_path):
+    """Teachers are looked up per task under policy.runs_dir; after more iterations the lookup finds a newer
+    checkpoint, whose episodes a rerun under the same name would have added to the older one's."""
+    runs = tmp_path / "runs"
+    run = ["rl/ppo=tiny", "task.object=box", "task.skill=open", f"run_dir={runs / 'g1/box/open'}"]
+    train_ppo(compose_cfg("rl", [*run, "rl.ppo.max_iterations=2"]))
+    first = latest_checkpoint(runs / "g1/box/open")
+    cfg = eval_cfg(tmp_path / "eval", ["eval/policy=teacher", f"policy.runs_dir={runs}"])
+    evaluate(cfg)
+    saved = json.loads((tmp_path / "eval/g1/default/config.json").read_text())["task_checkpoints"]
+    assert saved == {"g1 box/0010 open": str(first)}
+    evaluate(cfg)  # the same teacher: nothing to run
+    train_ppo(compose_cfg("rl", [*run, "rl.ppo.max_iterations=4"]))
+    newer = latest_checkpoint(runs / "g1/box/open")
+    with pytest.raises(
+        ConfigMismatchError, match=f"other settings \\(g1 box/0010 open: {first} -> {newer}\\)"
+    ):
+        evaluate(cfg)
+
+
 @pytest.mark.slow
 def test_trained_box_teacher_reproduces_its_success_rate():
     """The real g1 open test/box checkpoint: 256 episodes, seed 1000, as `python -m mobilemani_rl.eval`."""

@@ -38,6 +38,11 @@ class EvalPolicy:
         """Before anything runs or is written: stop with one error when a (robot, object, skill) task of the
         protocol cannot be evaluated (a privileged policy's missing teacher)."""
 
+    def task_checkpoints(self, tasks: set[tuple[str, str, str]]) -> dict[str, str]:
+        """The checkpoint file each task's actions come from, when the policy looks one up per task (teachers
+        under a runs directory): 'robot object skill' -> path. A fixed checkpoint is a setting already."""
+        return {}
+
     def start(self, env: MobileManiEnv, seed: int) -> None:
         """A new batch of episodes starts in `env` (already reset with `seed`);
         privileged policies bind to it."""

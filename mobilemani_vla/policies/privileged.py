@@ -73,9 +73,15 @@ class TeacherEvalPolicy(EvalPolicy):
         task = env.cfg.task
         return find_teacher_checkpoint(self.runs_dir, task.robot, task.object, task.skill)
 
+    def task_checkpoints(self, tasks: set[tuple[str, str, str]]) -> dict[str, str]:
+        if self.checkpoint is not None:
+            return {}
+        found = find_every_teacher(self.runs_dir, tasks, "policy.runs_dir")
+        return {" ".join(task): str(path) for task, path in found.items()}
+
     def check_tasks(self, tasks: set[tuple[str, str, str]]) -> None:
         if self.checkpoint is None:
-            find_every_teacher(self.runs_dir, tasks, "policy.runs_dir")
+            self.task_checkpoints(tasks)  # stops naming every missing teacher
             return
         check_checkpoint_file(self.checkpoint)
         trained = run_config(self.checkpoint).task.robot
