@@ -109,7 +109,8 @@ class RecordingResults(dict):
         return super().get(key, default)
 
     def unfinished(self, keys: set[tuple[str, str, str]]) -> str:
-        """'g1/default (4790 episodes so far), ...' for those of `keys` whose evaluation has not ended."""
+        """Those of `keys` whose evaluation has not ended, as printed:
+        'g1/default/test_objects_test_scenes (4790 episodes so far), ...'."""
         return ", ".join(
             f"{'/'.join(key)} ({self[key]['episodes']} episodes so far)"
             for key in sorted(keys)
