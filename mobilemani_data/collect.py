@@ -26,7 +26,7 @@ from mobilemani_data.combos import shard_of, shard_path
 from mobilemani_data.config import DataCfg, ShardCfg
 from mobilemani_data.recorder import collect_successes
 from mobilemani_data.shards import complete_header, write_shard
-from mobilemani_data.teachers import build_teacher, kind_of, teachable_combinations
+from mobilemani_data.teachers import build_teacher, current_teacher, teachable_combinations
 from mobilemani_rl.cli import entry_point
 from mobilemani_rl.envs.config import with_env_task
 from mobilemani_rl.process_pool import run_in_pool, threads_per_worker
@@ -37,11 +37,11 @@ from mobilemani_rl.tasks import Combination, select_combinations
 from mobilemani_rl.writer_lock import WriterLock, busy
 
 
-def episode_settings(cfg: DataCfg, combo: Combination) -> dict:
+def episode_settings(cfg: DataCfg, combo: Combination, teacher: str) -> dict:
     """The settings besides the env that decide a combination's episodes, as its shard's header records
     them."""
     return {
-        "teacher": cfg.teacher.kind,
+        "teacher": teacher,
         "requested": cfg.subset.episodes,
         "seed": combo.seed(cfg.collect.seed),
         "action_noise": cfg.collect.action_noise,
@@ -52,10 +52,9 @@ def check_complete_shards(cfg: DataCfg, done: list[tuple[Combination, Path, dict
     """A complete shard made with other settings would be skipped as if it held what this run asks for."""
     mismatched = []
     for combo, path, header in done:
-        saved = {key: header[key] for key in ("requested", "seed")}
+        saved = {key: header[key] for key in ("requested", "seed", "teacher")}
         saved["action_noise"] = header.get("action_noise", 0.0)  # shards from before DART have none
-        saved["teacher"] = kind_of(header["teacher"])
-        wanted = episode_settings(cfg, combo)
+        wanted = episode_settings(cfg, combo, current_teacher(cfg.teacher, combo, header["teacher"]))
         if changes := changed_values(saved, wanted, tuple(wanted)):
             mismatched.append(f"{path} ({'; '.join(changes)})")
     if mismatched:

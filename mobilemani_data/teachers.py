@@ -8,7 +8,7 @@ from mobilemani_data.config import TeacherCfg
 from mobilemani_data.recorder import Policy
 from mobilemani_rl.envs.config import EnvCfg, TaskCfg
 from mobilemani_rl.envs.mobilemani_env import MobileManiEnv
-from mobilemani_rl.registry import check_choice
+from mobilemani_rl.registry import MissingFileError, check_choice
 from mobilemani_rl.scripted import ScriptedPolicy
 from mobilemani_rl.tasks import Combination, recording_env_cfg
 
@@ -25,6 +25,20 @@ class Teacher:
 def kind_of(name: str) -> str:
     """The kind of teacher a shard header's `teacher` name stands for."""
     return "scripted" if name == "scripted" else "ppo"
+
+
+def current_teacher(cfg: TeacherCfg, combo: Combination, recorded: str) -> str:
+    """The teacher name a collection would record for the combination now: 'scripted', or the PPO checkpoint
+    the lookup finds (a teacher trained on since is another one). A shard whose PPO teacher has gone keeps the
+    one it `recorded`."""
+    if cfg.kind == "scripted":
+        return "scripted"
+    from mobilemani_rl.teacher import find_teacher_checkpoint  # the RL stack, for PPO teachers only
+
+    try:
+        return str(find_teacher_checkpoint(cfg.runs_dir, combo.robot, combo.object_id, combo.skill))
+    except MissingFileError:
+        return recorded if kind_of(recorded) == "ppo" else "ppo"
 
 
 def task_of(combo: Combination) -> TaskCfg:

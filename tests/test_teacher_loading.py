@@ -12,11 +12,12 @@ from data_helpers import tiny_cfg
 from hydra import compose, initialize_config_dir
 from payload import PlantedCode
 
-from mobilemani_data.collect import collect
+from mobilemani_data.collect import check_complete_shards, collect
 from mobilemani_data.teachers import build_teacher, teachable_combinations
 from mobilemani_rl.assets.objects import catalog_ids
+from mobilemani_rl.registry import ConfigMismatchError
 from mobilemani_rl.rl.run_dir import CONFIG, RESULT, latest_checkpoint
-from mobilemani_rl.tasks import select_combinations
+from mobilemani_rl.tasks import Combination, select_combinations
 from mobilemani_rl.teacher import (
     TeacherPolicy,
     find_teacher_checkpoint,
@@ -117,3 +118,26 @@ def test_collection_falls_back_to_the_category_teacher_and_says_how_to_keep_a_we
     ]
     data.teacher.min_train_success = 0.0
     assert teachable_combinations(data.teacher, [combo]) == ([combo], [])
+
+
+def test_a_complete_shard_of_an_earlier_ppo_teacher_is_not_taken_for_the_newer_ones(tmp_path):
+    """A rerun skips complete shards: after the teacher trained on, they would pass for its newer ones."""
+    runs_dir = tmp_path / "runs"
+    run = ["rl/ppo=tiny", f"run_dir={runs_dir / 'g1/box/open'}", "task.object=box", "objects_per_policy=2"]
+    with initialize_config_dir(config_dir=CONF, version_base="1.3"):
+        first, more = (
+            compose(config_name="rl", overrides=[*run, f"rl.ppo.max_iterations={n}"]) for n in (1, 2)
+        )
+    train(first)
+    object_id = catalog_ids("box", "test")[0]
+    older = find_teacher_checkpoint(runs_dir, "g1", object_id, "open")
+    data = tiny_cfg(tmp_path / "data", "data/teacher=ppo", f"teacher.runs_dir={runs_dir}")
+    combo = Combination("g1", object_id, "box", "open", "tabletop/00", "test", "train")
+    header = {"requested": data.subset.episodes, "seed": combo.seed(data.collect.seed), "teacher": str(older)}
+    check_complete_shards(data, [(combo, tmp_path / "shard.h5", header)])  # the teacher it names: complete
+    train(more)
+    newer = find_teacher_checkpoint(runs_dir, "g1", object_id, "open")
+    with pytest.raises(ConfigMismatchError, match=f"\\(teacher: {older} -> {newer}\\)"):
+        check_complete_shards(data, [(combo, tmp_path / "shard.h5", header)])
+    (runs_dir / "g1/box/open").rename(tmp_path / "gone")  # a shard whose teacher is gone stays complete
+    check_complete_shards(data, [(combo, tmp_path / "shard.h5", header)])
