@@ -70,7 +70,8 @@ def continued(argv: list[str]) -> list[str] | None:
     if args.output_dir is None or args.resume is not None or not Path(args.output_dir).exists():
         return argv
     run = Path(args.output_dir)
-    if not (run / LAST / "training_state" / "training_step.json").exists():
+    step_file = run / LAST / "training_state" / "training_step.json"
+    if not step_file.exists():
         saved_one = any(run.glob("checkpoints/*/training_state/training_step.json"))
         if not saved_one and {p.name for p in run.iterdir()} <= {"checkpoints"}:  # killed in its first save
             print(f"{run} holds no finished checkpoint: starting it again", flush=True)
@@ -80,7 +81,7 @@ def continued(argv: list[str]) -> list[str] | None:
             f"--output_dir={run} exists without a LeRobot run's {LAST} to resume from; "
             "choose another or delete it"
         )
-    reached = json.loads((run / LAST / "training_state" / "training_step.json").read_text())["step"]
+    reached = json.loads(step_file.read_text())["step"]
     saved = json.loads((run / LAST / "pretrained_model" / "train_config.json").read_text())
     changed = changed_settings(saved, args)
     steps = int(args.steps) if args.steps is not None else saved["steps"]
