@@ -61,6 +61,7 @@ def test_a_rerun_continues_its_run_and_refuses_other_settings(tmp_path, monkeypa
     was first given: `make lerobot LEROBOT_STEPS=4000` after 2000 trained nothing, then evaluated the old
     model."""
     monkeypatch.chdir(tmp_path)
+    here = tmp_path.resolve()  # the paths compared are resolved
     args = ["--policy.type=act", "--dataset.root=data/lerobot", "--batch_size=16", "--output_dir=run"]
     assert continued([*args, "--steps=2000"]) == [*args, "--steps=2000"]  # a new run
     trained_run(tmp_path / "run", 2000, 2000)
@@ -76,7 +77,7 @@ def test_a_rerun_continues_its_run_and_refuses_other_settings(tmp_path, monkeypa
         ("--policy.type=diffusion", "--policy.type: act -> diffusion"),
         (
             "--dataset.root=data64/lerobot",
-            f"--dataset.root: {tmp_path}/data/lerobot -> {tmp_path}/data64/lerobot",
+            f"--dataset.root: {here / 'data/lerobot'} -> {here / 'data64/lerobot'}",
         ),
         ("--batch_size=8", "--batch_size: 16 -> 8"),
     ):
