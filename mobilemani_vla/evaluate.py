@@ -184,8 +184,7 @@ def evaluate(cfg: EvalCfg, policy: EvalPolicy | None = None) -> dict:
             f"{expected}-d ones; evaluate it with the robot it was trained for"
         )
     tasks = {(c.robot, c.object_id, c.skill) for c in combos}
-    policy.check_tasks(tasks)
-    checkpoints = check_same_settings(out, settings, policy.task_checkpoints(tasks))
+    checkpoints = check_same_settings(out, settings, policy.check_tasks(tasks))
     with ResultsFile(out / f"{cfg.split_name}.jsonl") as results:
         config = {"eval": settings, "policy_inputs": sorted(policy.inputs), "task_checkpoints": checkpoints}
         write_json_atomic(out / "config.json", config)

@@ -34,13 +34,11 @@ class EvalPolicy:
     )
     action_dim: int | None = None  # width of the actions it predicts, if fixed (a trained checkpoint's)
 
-    def check_tasks(self, tasks: set[tuple[str, str, str]]) -> None:
+    def check_tasks(self, tasks: set[tuple[str, str, str]]) -> dict[str, str]:
         """Before anything runs or is written: stop with one error when a (robot, object, skill) task of the
-        protocol cannot be evaluated (a privileged policy's missing teacher)."""
-
-    def task_checkpoints(self, tasks: set[tuple[str, str, str]]) -> dict[str, str]:
-        """The checkpoint file each task's actions come from, when the policy looks one up per task (teachers
-        under a runs directory): 'robot object skill' -> path. A fixed checkpoint is a setting already."""
+        protocol cannot be evaluated (a privileged policy's missing teacher). Returns the checkpoint file each
+        task's actions come from when the policy looks one up per task (teachers under a runs directory),
+        'robot object skill' -> path; a fixed checkpoint is a setting already."""
         return {}
 
     def start(self, env: MobileManiEnv, seed: int) -> None:

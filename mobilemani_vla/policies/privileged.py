@@ -73,16 +73,10 @@ class TeacherEvalPolicy(EvalPolicy):
         task = env.cfg.task
         return find_teacher_checkpoint(self.runs_dir, task.robot, task.object, task.skill)
 
-    def task_checkpoints(self, tasks: set[tuple[str, str, str]]) -> dict[str, str]:
-        if self.checkpoint is not None:
-            return {}
-        found = find_every_teacher(self.runs_dir, tasks, "policy.runs_dir")
-        return {" ".join(task): str(path) for task, path in found.items()}
-
-    def check_tasks(self, tasks: set[tuple[str, str, str]]) -> None:
-        if self.checkpoint is None:
-            self.task_checkpoints(tasks)  # stops naming every missing teacher
-            return
+    def check_tasks(self, tasks: set[tuple[str, str, str]]) -> dict[str, str]:
+        if self.checkpoint is None:  # stops naming every missing teacher
+            found = find_every_teacher(self.runs_dir, tasks, "policy.runs_dir")
+            return {" ".join(task): str(path) for task, path in found.items()}
         check_checkpoint_file(self.checkpoint)
         trained = run_config(self.checkpoint).task.robot
         if others := sorted({robot for robot, _, _ in tasks} - {trained}):
@@ -90,6 +84,7 @@ class TeacherEvalPolicy(EvalPolicy):
                 f"teacher checkpoint {self.checkpoint} was trained for robot={trained}, not robot="
                 f"{','.join(others)}; evaluate it with the robot it was trained for"
             )
+        return {}
 
     def start(self, env: MobileManiEnv, seed: int) -> None:
         checkpoint = self._checkpoint_for(env)
