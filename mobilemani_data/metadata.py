@@ -5,7 +5,9 @@ from __future__ import annotations
 import json
 from pathlib import Path
 
+import av
 from lerobot.datasets.dataset_metadata import LeRobotDatasetMetadata
+from lerobot.datasets.video_utils import FrameTimestampError
 
 from mobilemani_data import schema
 from mobilemani_rl.registry import MissingFileError
@@ -23,6 +25,10 @@ def read_episodes(root: Path) -> list[dict]:
 def read_export_report(root: Path) -> dict:
     return json.loads((root / schema.EXPORT_REPORT_FILE).read_text())
 
+
+# What decoding a damaged video raises: PyAV's errors, or LeRobot's when a file cut short lacks the frames
+# asked for.
+VIDEO_DECODE_ERRORS = (av.error.FFmpegError, FrameTimestampError)
 
 META_FILES = ("meta/info.json", "meta/tasks.parquet")  # LeRobot v3's metadata besides meta/episodes/
 

@@ -21,12 +21,18 @@ from omegaconf import DictConfig
 from mobilemani_data import schema
 from mobilemani_data.config import DataCfg, ValidateCfg
 from mobilemani_data.convert import FIRST_FRAME
-from mobilemani_data.metadata import open_dataset_metadata, read_episodes, read_export_report
+from mobilemani_data.metadata import (
+    VIDEO_DECODE_ERRORS,
+    open_dataset_metadata,
+    read_episodes,
+    read_export_report,
+)
 from mobilemani_data.replay import Replayer
 from mobilemani_data.shards import Shard, ShardError, read_shard, shard_paths
 from mobilemani_rl.assets.robots import get_robot
 from mobilemani_rl.cli import entry_point
 from mobilemani_rl.envs.config import with_env_task
+from mobilemani_rl.registry import first_sentence
 from mobilemani_rl.schema import to_dataclass
 
 
@@ -103,7 +109,16 @@ def check_dataset(
         problems.append(f"{root}: {meta.total_frames} frames, metadata lengths sum to another count")
     ds = LeRobotDataset(meta.repo_id, root=root, video_backend="pyav")
     for index in np.linspace(0, len(ds) - 1, cfg.decode_frames).round().astype(int):
-        frame = ds[int(index)]
+        try:
+            frame = ds[int(index)]
+        except VIDEO_DECODE_ERRORS as err:
+            episode = int(ds.hf_dataset[int(index)]["episode_index"])
+            videos = sorted({str(root / meta.get_video_file_path(episode, key)) for key in meta.video_keys})
+            problems.append(
+                f"{root}: frame {index} does not decode ({first_sentence(err)}); "
+                f"the videos of its episode {episode}: {', '.join(videos)}"
+            )
+            continue
         for camera in report["cameras"]:
             for modality in report["modalities"]:
                 shape = tuple(frame[schema.image_key(camera, modality)].shape)

@@ -6,6 +6,7 @@ import argparse
 import functools
 import sys
 from collections.abc import Callable
+from pathlib import Path
 
 from mobilemani_rl.registry import InputError
 
@@ -33,6 +34,14 @@ def count(text: str) -> int:
     if value < 1:
         raise argparse.ArgumentTypeError(f"must be at least 1, got {value}")
     return value
+
+
+def png_path(text: str) -> Path:
+    """argparse type of an image to write: a .png path, checked before the minutes of rendering that
+    precede the write (its folder is made then)."""
+    if Path(text).suffix.lower() != ".png":
+        raise argparse.ArgumentTypeError(f"must name a .png file, got {text}")
+    return Path(text)
 
 
 def seconds(text: str) -> float:

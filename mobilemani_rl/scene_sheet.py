@@ -16,7 +16,7 @@ from PIL import Image, ImageDraw
 from mobilemani_rl.assets.objects import OBJECTS, ObjectModel
 from mobilemani_rl.assets.robots import ROBOTS
 from mobilemani_rl.assets.scenes.placements import PLACEMENTS, Placement, setting_of
-from mobilemani_rl.cli import count, entry_point
+from mobilemani_rl.cli import count, entry_point, png_path
 from mobilemani_rl.envs.config import EnvCfg, TaskCfg
 from mobilemani_rl.envs.mobilemani_env import MobileManiEnv
 from mobilemani_rl.render import CameraRenderCfg, CameraRenderer
@@ -65,7 +65,7 @@ def build_sheet(robot: str, size: int, scene_ids: Sequence[str] | None = None) -
 
 
 def configure(parser: argparse.ArgumentParser) -> None:
-    parser.add_argument("--out", required=True, help="PNG path to write")
+    parser.add_argument("--out", type=png_path, required=True, help="PNG path to write")
     parser.add_argument("--robot", default="g1", choices=sorted(ROBOTS))
     parser.add_argument("--size", type=count, default=160, help="pixels per camera view")
     parser.add_argument("--scenes", nargs="*", help="scene ids (default: all 100)")
@@ -73,7 +73,8 @@ def configure(parser: argparse.ArgumentParser) -> None:
 
 def run(args: argparse.Namespace) -> None:
     sheet = build_sheet(args.robot, args.size, args.scenes)
-    tmp = f"{args.out}.tmp.png"
+    tmp = args.out.with_name(f"{args.out.name}.tmp.png")
+    args.out.parent.mkdir(parents=True, exist_ok=True)
     Image.fromarray(sheet).save(tmp)
     os.replace(tmp, args.out)  # no half-written sheet left behind
     print(f"wrote {args.out} ({sheet.shape[1]}x{sheet.shape[0]})")

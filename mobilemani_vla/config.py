@@ -19,6 +19,8 @@ DTYPES = ("float32", "bfloat16", "float16")
 ROBOT_ACTION_DIMS = {"g1": 7, "xhand": 18}  # 6 wrist deltas + 1 gripper / 12 hand joints
 CAMERAS = ("head_rgb", "head_depth", "wrist_rgb", "wrist_depth")
 STATES = ("wrist_pose", "grasp_point", "goal_point")
+BETA_SCHEDULES = ("linear", "scaled_linear", "squaredcos_cap_v2")  # those diffusers' DDIMScheduler computes
+VIDEO_BACKENDS = ("pyav", "torchcodec")  # LeRobot's decoders (its third, video_reader, is an alias of pyav)
 
 
 @dataclass
@@ -153,6 +155,7 @@ class VLACfg:
         from diffusers.optimization import SchedulerType
 
         t, d, data = self.train, self.diffusion, self.data
+        vision, text = self.model.vision, self.model.text
         check_positive(
             {
                 "train.steps": t.steps,
@@ -175,6 +178,26 @@ class VLACfg:
                 ("train.grad_clip", t.grad_clip, t.grad_clip >= 0, ">= 0; 0 clips nothing"),
                 ("diffusion.cfg_dropout", d.cfg_dropout, 0 <= d.cfg_dropout < 1, "in [0, 1); 0: no guidance"),
                 ("diffusion.ddim_steps", d.ddim_steps, d.ddim_steps <= d.train_timesteps, "<= its timesteps"),
+                ("diffusion.cfg_scale", d.cfg_scale, d.cfg_scale >= 0, ">= 0; 1: no guidance"),
+                (
+                    "train.diagnose_cfg_scales",
+                    t.diagnose_cfg_scales,
+                    all(scale >= 0 for scale in t.diagnose_cfg_scales),
+                    "guidance scales, each >= 0",
+                ),
+                (
+                    "model.vision.num_attention_heads",
+                    vision.num_attention_heads,
+                    vision.num_attention_heads >= 1 and vision.hidden_size % vision.num_attention_heads == 0,
+                    f"a divisor of model.vision.hidden_size={vision.hidden_size}",
+                ),
+                (
+                    "model.text.num_key_value_heads",
+                    text.num_key_value_heads,
+                    text.num_key_value_heads >= 1
+                    and text.num_attention_heads % text.num_key_value_heads == 0,
+                    f"a divisor of model.text.num_attention_heads={text.num_attention_heads}",
+                ),
                 ("data.heldout_episodes", data.heldout_episodes, data.heldout_episodes >= 0, ">= 0"),
                 ("data.num_workers", data.num_workers, data.num_workers >= 0, ">= 0"),
             ]
@@ -182,6 +205,8 @@ class VLACfg:
         _choices("train.mixed_precision", [t.mixed_precision], PrecisionType.list())
         _choices("train.lr_schedule", [t.lr_schedule], [schedule.value for schedule in SchedulerType])
         _choices("train.logger", [t.logger], ("wandb", "none"))
+        _choices("diffusion.beta_schedule", [d.beta_schedule], BETA_SCHEDULES)
+        _choices("data.video_backend", [data.video_backend], VIDEO_BACKENDS)
         _choices("robot", [self.robot], ROBOT_ACTION_DIMS)
         _choices("inputs.cameras", self.inputs.cameras, CAMERAS)
         _choices("inputs.states", self.inputs.states, STATES)

@@ -87,6 +87,19 @@ class FrameTable:
         return np.minimum(wanted, self.episode_end[row] - 1), wanted >= self.episode_end[row]
 
 
+def chosen_episodes(episodes: list[int] | None, total: int, root: str) -> list[int]:
+    """`data.episodes`, or every episode when unset; each must be one of the dataset's, once."""
+    if episodes is None:
+        return list(range(total))
+    unknown = sorted({e for e in episodes if not 0 <= e < total})
+    if unknown or not episodes or len(set(episodes)) != len(episodes):
+        raise InputError(
+            f"data.episodes={list(episodes)}: name one or more of the {total} episodes of {root} "
+            f"(0 to {total - 1}), without repeats" + (f"; not among them: {unknown}" if unknown else "")
+        )
+    return list(episodes)
+
+
 def split_episodes(episodes: list[int], heldout: int, seed: int) -> tuple[np.ndarray, np.ndarray]:
     """(training, held-out) episode indices; the held-out ones are a seeded random choice."""
     episodes = np.asarray(sorted(episodes))
@@ -166,7 +179,7 @@ def _decoded_frames(cfg: VLACfg, fps: int, episodes: np.ndarray) -> LeRobotDatas
 def open_data(cfg: VLACfg, image_size: int, progress: bool = True) -> VLAData:
     """The training and held-out frames of the configured dataset (episodes `data.episodes`, or all)."""
     meta = open_metadata(cfg)
-    episodes = cfg.data.episodes if cfg.data.episodes is not None else list(range(meta.total_episodes))
+    episodes = chosen_episodes(cfg.data.episodes, meta.total_episodes, cfg.data.root)
     train_eps, heldout_eps = split_episodes(episodes, cfg.data.heldout_episodes, cfg.train.seed)
     table = FrameTable.read(meta, vector_keys(cfg.inputs.states))
     if cfg.data.cache:

@@ -25,6 +25,14 @@ class EnsembleCfg:
     alpha: float = 0.1  # CogACTInference / deploy.py default
 
 
+def check_action_index(index: int, chunk_length: int | None) -> None:
+    """A fixed `ensemble.action_index` names an element of the policy's chunks (unknown length: not yet)."""
+    if chunk_length is not None and index >= chunk_length:
+        raise InputError(
+            f"ensemble.action_index={index} is outside the policy's chunk of {chunk_length} actions"
+        )
+
+
 def ensemble_weights(candidates: np.ndarray, alpha: float) -> np.ndarray:
     """Normalised weights of candidate actions (m, A), newest first; row 0 is the reference."""
     reference = candidates[0]
@@ -67,9 +75,6 @@ class ChunkExecutor:
         """chunks (n, N, A) -> actions (n, A)."""
         k = self.cfg.action_index
         if k >= 0:
-            if k >= chunks.shape[1]:
-                raise InputError(
-                    f"ensemble.action_index={k} is outside the policy's chunk of {chunks.shape[1]} actions"
-                )
+            check_action_index(k, chunks.shape[1])
             return np.asarray(chunks[:, k], dtype=np.float64)
         return np.stack([e.update(c) for e, c in zip(self.ensemblers, chunks, strict=True)])

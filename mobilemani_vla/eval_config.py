@@ -9,7 +9,7 @@ from typing import get_args
 
 from mobilemani_rl.base_frame import Convention
 from mobilemani_rl.envs.config import EnvCfg, EnvParamsCfg, RobotChoiceCfg, check_env_block
-from mobilemani_rl.registry import check_choice, check_positive, check_values
+from mobilemani_rl.registry import check_choice, check_positive, check_torch_device, check_values
 from mobilemani_rl.schema import register_schema
 from mobilemani_rl.tasks import SubsetCfg
 from mobilemani_vla.ensemble import EnsembleCfg
@@ -93,6 +93,7 @@ class EvalCfg:
             ]
         )
         check_choice(self.action_convention, get_args(Convention), "action_convention")
+        check_torch_device(self.policy.device, "policy.device")
         check_env_block(self.env, {"num_envs": "episodes_per_batch", "seed": "seed"})
         return self
 

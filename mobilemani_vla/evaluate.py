@@ -37,6 +37,7 @@ from mobilemani_rl.rollout import EpisodeStats
 from mobilemani_rl.schema import changed_values, to_dataclass
 from mobilemani_rl.tasks import Combination, recording_env_cfg, select_combinations
 from mobilemani_rl.video import HeadCameraRecorder
+from mobilemani_vla.ensemble import check_action_index
 from mobilemani_vla.eval_config import DEFAULT_IMAGE_SIZE, EvalCfg
 from mobilemani_vla.harness import run_batch
 from mobilemani_vla.policies.base import EvalPolicy
@@ -183,6 +184,7 @@ def evaluate(cfg: EvalCfg, policy: EvalPolicy | None = None) -> dict:
             f"{policy.name} predicts {policy.action_dim}-d actions but robot={cfg.robot} takes "
             f"{expected}-d ones; evaluate it with the robot it was trained for"
         )
+    check_action_index(cfg.ensemble.action_index, policy.chunk_length)
     tasks = {(c.robot, c.object_id, c.skill) for c in combos}
     checkpoints = check_same_settings(out, settings, policy.check_tasks(tasks))
     with ResultsFile(out / f"{cfg.split_name}.jsonl") as results:

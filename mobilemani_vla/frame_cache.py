@@ -21,6 +21,8 @@ from lerobot.datasets.dataset_metadata import LeRobotDatasetMetadata
 from lerobot.datasets.video_utils import decode_video_frames
 from tqdm import tqdm
 
+from mobilemani_data.metadata import VIDEO_DECODE_ERRORS
+from mobilemani_rl.registry import InputError, first_sentence
 from mobilemani_vla.processor import camera_key, resize_images
 
 CACHE_DIR = "vla_cache"
@@ -55,7 +57,13 @@ def _decode_episode(
     start = episode[f"videos/{key}/from_timestamp"]
     timestamps = (start + np.arange(episode["length"]) / meta.fps).tolist()
     path = root / meta.get_video_file_path(episode["episode_index"], key)
-    return decode_video_frames(path, timestamps, TOLERANCE_S, backend, return_uint8=True)
+    try:
+        return decode_video_frames(path, timestamps, TOLERANCE_S, backend, return_uint8=True)
+    except VIDEO_DECODE_ERRORS as err:
+        raise InputError(
+            f"episode {episode['episode_index']}'s {key} frames do not decode from {path} "
+            f"({first_sentence(err)}); the video is damaged: export the dataset again"
+        ) from err
 
 
 def _build(

@@ -59,6 +59,25 @@ def test_data_values_name_their_keys_before_anything_is_written(tmp_path, overri
             r"invalid train.mixed_precision \['bf32'\]: each must be one of \['no'",
         ),
         ("train.lr_schedule=cosin", r"invalid train.lr_schedule \['cosin'\]: each must be one of \['linear'"),
+        # each reached a library's traceback when the model or the dataset was built, or ran without a word
+        (
+            "diffusion.beta_schedule=cosine",
+            r"invalid diffusion.beta_schedule \['cosine'\]: each must be one of \['linear', 'scaled_linear'",
+        ),
+        (
+            "data.video_backend=ffmpeg",
+            r"invalid data.video_backend \['ffmpeg'\]: each must be one of \['pyav'",
+        ),
+        ("diffusion.cfg_scale=-1", r"diffusion.cfg_scale=-1.0 \(>= 0; 1: no guidance\)"),
+        ("train.diagnose_cfg_scales=[1,-2]", r"train.diagnose_cfg_scales=\[1.0, -2.0\] \(guidance scales"),
+        (
+            "model.vision.num_attention_heads=3",
+            r"model.vision.num_attention_heads=3 \(a divisor of model.vision.hidden_size=32\)",
+        ),
+        (
+            "model.text.num_key_value_heads=3",
+            r"model.text.num_key_value_heads=3 \(a divisor of model.text.num_attention_heads=2\)",
+        ),
     ],
 )
 def test_vla_training_values_name_their_keys(override, named):
@@ -67,6 +86,31 @@ def test_vla_training_values_name_their_keys(override, named):
 
     with pytest.raises(InputError, match=named):
         compose_vla_cfg([override])
+
+
+@pytest.mark.parametrize(
+    ("episodes", "named"),
+    [
+        # it said "data.heldout_episodes=4 leaves no training episode of 1", of an episode that does not exist
+        (
+            [999],
+            r"data.episodes=\[999\]: name one or more of the 3 episodes of .* \(0 to 2\), .*"
+            r"not among them: \[999\]",
+        ),
+        ([1, 1], r"data.episodes=\[1, 1\]: .* without repeats"),
+        ([], r"data.episodes=\[\]: name one or more"),
+    ],
+)
+def test_vla_training_episodes_must_be_the_datasets(tmp_path, episodes, named):
+    from mobilemani_rl.registry import InputError
+    from mobilemani_vla.config import compose_vla_cfg
+    from mobilemani_vla.data import open_data
+
+    root = write_synthetic_dataset(tmp_path / "g1", episodes=3, length=5)
+    cfg = compose_vla_cfg([f"data.root={root}", "data.repo_id=synthetic/g1", "data.heldout_episodes=0"])
+    cfg.data.episodes = episodes
+    with pytest.raises(InputError, match=named):
+        open_data(cfg, 32, progress=False)
 
 
 def test_non_positive_evaluation_counts_name_their_keys():
@@ -94,6 +138,45 @@ def test_a_model_policy_without_a_checkpoint_names_the_key(checkpoint):
     assert build_policy(PolicyCfg(kind="teacher", checkpoint=checkpoint)).checkpoint is None
 
 
+def test_a_policy_setting_its_kind_does_not_read_is_refused():
+    """`make eval POLICY=scripted CHECKPOINT=...` evaluated the scripted policy without a word."""
+    from mobilemani_rl.registry import InputError
+    from mobilemani_vla.eval_config import PolicyCfg
+    from mobilemani_vla.policies.factory import build_policy
+
+    for kind in ("scripted", "random"):
+        with pytest.raises(
+            InputError, match=f"policy.kind={kind} does not read policy.checkpoint=ckpt; leave it out"
+        ):
+            build_policy(PolicyCfg(kind=kind, checkpoint="ckpt"))
+    rename = {"observation.images.head_rgb": "observation.images.top"}
+    with pytest.raises(
+        InputError, match=r"policy.kind=teacher does not read policy.device=cuda, policy.rename="
+    ):
+        build_policy(PolicyCfg(kind="teacher", rename=rename, device="cuda"))
+    with pytest.raises(InputError, match="policy.kind=vla does not read policy.runs_dir=runs/teachers"):
+        build_policy(PolicyCfg(kind="vla", checkpoint="ckpt", runs_dir="runs/teachers"))
+
+
+def test_a_fixed_action_index_outside_the_chunk_stops_before_anything_is_written(tmp_path):
+    """It stopped at the first step, after the run's config.json was written."""
+    from mobilemani_rl.envs.config import with_env_task
+    from mobilemani_rl.registry import InputError
+    from mobilemani_rl.schema import to_dataclass
+    from mobilemani_vla.eval_config import EvalCfg
+    from mobilemani_vla.evaluate import evaluate
+
+    cfg = compose_root(
+        "eval",
+        ["eval/policy=scripted", "eval/protocol=small", f"output_dir={tmp_path}", "ensemble.action_index=1"],
+    )
+    with pytest.raises(
+        InputError, match="ensemble.action_index=1 is outside the policy's chunk of 1 actions"
+    ):
+        evaluate(to_dataclass(with_env_task(cfg), EvalCfg).check())
+    assert not any(tmp_path.iterdir())
+
+
 @pytest.mark.parametrize(
     ("override", "named"),
     [
@@ -109,6 +192,8 @@ def test_a_model_policy_without_a_checkpoint_names_the_key(checkpoint):
         ),
         ("image_size=[64]", r"image_size=\[64\] \(\[height, width\]\)"),
         ("image_size=[0,0]", r"image_size=\[0, 0\] \(\[height, width\]\)"),
+        # reached torch's "Found no NVIDIA driver on your system" once the checkpoint loaded
+        (f"policy.device=cuda:{torch.cuda.device_count()}", "CUDA device\\(s\\); use policy.device=cpu"),
     ],
 )
 def test_evaluation_config_names_each_bad_value(tmp_path, override, named):
@@ -217,6 +302,13 @@ def test_entry_points_end_bad_input_with_one_line_and_keep_tracebacks_for_bugs(t
             ["preview", "--per-category", "0"],
             "--per-category: must be at least 1",
         ),
+        # matplotlib and PIL refused these only after the half minute of rendering
+        (
+            "mobilemani_rl.assets.__main__",
+            ["preview", "--out", "x.txt"],
+            "argument --out: must name a .png file",
+        ),
+        ("mobilemani_rl.scene_sheet", ["--out", "sheet"], "argument --out: must name a .png file, got sheet"),
     ],
 )
 def test_command_line_tools_name_the_bad_option(module, argv, message, capsys, tmp_path, monkeypatch):
@@ -285,6 +377,46 @@ def test_env_keys_that_data_and_evaluation_set_are_refused(tmp_path):
     cfg = compose_root("eval", ["env.num_envs=4"])
     with pytest.raises(ValueError, match=r"env.num_envs=4 \(set it through episodes_per_batch\)"):
         to_dataclass(with_env_task(cfg), EvalCfg).check()
+
+
+@pytest.mark.parametrize(
+    ("override", "named"),
+    [
+        # each reached a library's traceback (ZeroDivisionError, numpy's "high - low < 0", "all input arrays
+        # must have the same shape") or ran without a word, never able to succeed or to observe anything
+        ("env.physics.control_hz=0", r"env.physics.control_hz=0.0 \(above 0\)"),
+        ("env.physics.solver_iterations=0", "env.physics.solver_iterations=0"),
+        ("env.physics.nthread=-1", r"env.physics.nthread=-1 \(>= 0\)"),
+        ("env.success.threshold=0", r"env.success.threshold=0.0 \(above 0\)"),
+        ("env.success.hold_steps=0", "env.success.hold_steps=0"),
+        ("env.obs_clip=0", r"env.obs_clip=0.0 \(above 0\)"),
+        ("env.actions.ik_damping=-1", r"env.actions.ik_damping=-1.0 \(>= 0\)"),
+        ("env.reset.random_height=-0.5", r"env.reset.random_height=-0.5 \(>= 0\)"),
+        (
+            "env.reset.root_x_range=[0.25,-0.25]",
+            r"env.reset.root_x_range=\[0.25, -0.25\] \(\[low, high\] with low <= high\)",
+        ),
+        ("env.reset.room_jitter_y=[0.1]", r"env.reset.room_jitter_y=\[0.1\] \(\[low, high\]"),
+    ],
+)
+def test_env_values_are_checked_by_every_entry_point_and_the_env(tmp_path, override, named):
+    from mobilemani_rl.envs.config import with_env_task
+    from mobilemani_rl.registry import InputError
+    from mobilemani_rl.schema import to_dataclass
+    from mobilemani_rl.train import train
+    from mobilemani_vla.eval_config import EvalCfg
+
+    with pytest.raises(InputError, match=named):
+        train(compose_root("rl", ["rl/ppo=tiny", f"run_dir={tmp_path / 'run'}", override]))
+    with pytest.raises(InputError, match=named):
+        tiny_cfg(tmp_path / "data", override)
+    with pytest.raises(InputError, match=named):
+        to_dataclass(with_env_task(compose_root("eval", [override])), EvalCfg).check()
+    key, value = override.split("=")
+    env_cfg = OmegaConf.merge(OmegaConf.structured(EnvCfg), OmegaConf.from_dotlist([f"{key[4:]}={value}"]))
+    with pytest.raises(InputError, match=named):
+        MobileManiEnv(OmegaConf.to_object(env_cfg))
+    assert not any(tmp_path.iterdir())
 
 
 def test_rl_evaluation_names_its_keys():

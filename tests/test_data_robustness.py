@@ -16,7 +16,7 @@ from data_helpers import tiny_cfg
 from mobilemani_data.collect import collect
 from mobilemani_data.combos import shard_path
 from mobilemani_data.export import export
-from mobilemani_data.metadata import read_episodes, read_export_report
+from mobilemani_data.metadata import open_dataset_metadata, read_episodes, read_export_report
 from mobilemani_data.shards import PARTIAL_SUFFIX, read_shard, shard_paths
 from mobilemani_data.validate import validate
 from mobilemani_rl.registry import ConfigMismatchError, InputError, MissingFileError
@@ -195,6 +195,24 @@ def test_corrupt_shard_is_named_and_the_rest_exports(tmp_path, capsys):
     assert read_export_report(Path(cfg.dataset_dir))["skipped"] == report.skipped
     assert not Path(cfg.dataset_dir + ".partial").exists()
     shutil.rmtree(cfg.dataset_dir)
+
+
+def test_a_video_cut_short_is_named_by_validation_and_by_the_frame_cache(tmp_path):
+    """Both ended in a decoder's traceback (LeRobot's FrameTimestampError, PyAV's InvalidDataError)."""
+    from mobilemani_vla.frame_cache import cached_images
+
+    cfg = tiny_cfg(tmp_path, "subset.objects=[dishwasher/0000]", "subset.skills=[open]", "subset.episodes=1")
+    collect(cfg)
+    export(cfg)
+    root = Path(cfg.dataset_dir)
+    meta = open_dataset_metadata(cfg.export.repo_id, root)
+    video = root / meta.get_video_file_path(1, "observation.images.head_rgb")
+    video.write_bytes(video.read_bytes()[: video.stat().st_size // 3])
+    problems = validate(cfg)
+    assert problems and all("does not decode" in p and str(video) in p for p in problems)
+    with pytest.raises(InputError, match=f"frames do not decode from {video} .*the video is damaged"):
+        cached_images(root, meta, ["head_rgb"], 32, progress=False)
+    assert not (root / "vla_cache" / "head_rgb_32px").exists()
 
 
 def test_a_rerun_reuses_an_up_to_date_export_and_a_changed_shard_needs_overwrite(tmp_path):

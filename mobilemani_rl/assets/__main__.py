@@ -12,7 +12,7 @@ from collections.abc import Callable
 from pathlib import Path
 
 from mobilemani_rl.assets.objects.catalog import CATALOG, CATEGORIES, SPLITS
-from mobilemani_rl.cli import count, entry_point
+from mobilemani_rl.cli import count, entry_point, png_path
 
 
 def _configure_list(parser: argparse.ArgumentParser) -> None:
@@ -31,7 +31,7 @@ def _run_list(args: argparse.Namespace) -> None:
 
 
 def _configure_preview(parser: argparse.ArgumentParser) -> None:
-    parser.add_argument("--out", type=Path, default=Path("outputs/objects_preview.png"))
+    parser.add_argument("--out", type=png_path, default=Path("outputs/objects_preview.png"))
     parser.add_argument("--per-category", type=count, default=3)
     parser.add_argument("--size", type=count, default=200, help="tile size in pixels")
     parser.add_argument("--seed", type=int, default=0, help="which sample objects")

@@ -12,7 +12,7 @@ from typing import Any
 
 from omegaconf import DictConfig, OmegaConf
 
-from mobilemani_rl.registry import InputError, check_positive
+from mobilemani_rl.registry import InputError, check_positive, check_values
 
 
 @dataclass
@@ -121,6 +121,57 @@ class EnvParamsCfg:
     rewards: RewardWeights = field(default_factory=RewardWeights)
     success: SuccessCfg = field(default_factory=SuccessCfg)
 
+    def check(self) -> None:
+        """Every value in its range, each failing one named by its key: a zero control rate divides by zero,
+        a reversed reset range stops numpy mid-reset, and a zero success threshold or clip runs without a word
+        but can never succeed or observe anything."""
+        physics, actions, reset, success = self.physics, self.actions, self.reset, self.success
+        check_positive(
+            {
+                "env.num_envs": self.num_envs,
+                "env.episode_length": self.episode_length,
+                "env.physics.substeps": physics.substeps,
+                "env.physics.solver_iterations": physics.solver_iterations,
+                "env.physics.ls_iterations": physics.ls_iterations,
+                "env.success.hold_steps": success.hold_steps,
+            }
+        )
+        above_zero = {
+            "env.physics.control_hz": physics.control_hz,
+            "env.obs_clip": self.obs_clip,
+            "env.reward_clip": self.reward_clip,
+            "env.actions.pos_scale": actions.pos_scale,
+            "env.actions.rot_scale": actions.rot_scale,
+            "env.success.threshold": success.threshold,
+            "env.success.reach_radius": success.reach_radius,
+            "env.success.finger_radius": success.finger_radius,
+            "env.success.max_hand_distance": success.max_hand_distance,
+            "env.success.max_speed": success.max_speed,
+        }
+        # a thread count (0: all cores), the IK damping, and spreads the resets draw as U(0, x) or U(-x, x)
+        non_negative = {
+            "env.physics.nthread": physics.nthread,
+            "env.actions.ik_damping": actions.ik_damping,
+            "env.reset.yaw_jitter_deg": reset.yaw_jitter_deg,
+            "env.reset.random_height": reset.random_height,
+            "env.reset.stage_shift": reset.stage_shift,
+            "env.reset.pick_yaw_deg": reset.pick_yaw_deg,
+        }
+        ranges = {
+            "env.reset.root_x_range": reset.root_x_range,
+            "env.reset.root_y_range": reset.root_y_range,
+            "env.reset.room_jitter_x": reset.room_jitter_x,
+            "env.reset.room_jitter_y": reset.room_jitter_y,
+        }
+        check_values(
+            [(key, value, value > 0, "above 0") for key, value in above_zero.items()]
+            + [(key, value, value >= 0, ">= 0") for key, value in non_negative.items()]
+            + [
+                (key, list(pair), len(pair) == 2 and pair[0] <= pair[1], "[low, high] with low <= high")
+                for key, pair in ranges.items()
+            ]
+        )
+
 
 @dataclass
 class EnvCfg(EnvParamsCfg):
@@ -128,10 +179,10 @@ class EnvCfg(EnvParamsCfg):
 
 
 def check_env_block(env: EnvParamsCfg, set_by: dict[str, str]) -> None:
-    """An entry point's env block: its counts are at least 1, and the keys the entry point sets itself (e.g.
+    """An entry point's env block: its values are in range, and the keys the entry point sets itself (e.g.
     env.num_envs from rl.ppo.num_envs) keep their defaults, since a value given there would be replaced
     without a word."""
-    check_positive({"env.episode_length": env.episode_length, "env.physics.substeps": env.physics.substeps})
+    env.check()
     defaults = EnvParamsCfg()
     given = [
         f"env.{key}={getattr(env, key)} (set it through {owner})"

@@ -24,7 +24,6 @@ from mobilemani_rl.envs.resets import sample_episode_start
 from mobilemani_rl.envs.rewards import RewardContext, TaskDistances, grasp_flag, reward_terms, total_reward
 from mobilemani_rl.envs.scene import build_scene
 from mobilemani_rl.envs.terminations import hand_too_far_or_too_fast, time_out_or_held_success
-from mobilemani_rl.registry import check_positive
 from mobilemani_rl.rotations import quat_from_euler, quat_mul
 
 # The palm-rotation reach term is on only for these (category, skill) pairs, as in the reference.
@@ -50,8 +49,8 @@ class MobileManiEnv:
     """Batched env for one (robot, object, skill) task."""
 
     def __init__(self, cfg: EnvCfg) -> None:
-        # MuJoCo's own message ("nsim must be positive") names no key
-        check_positive({"num_envs": cfg.num_envs})
+        # before MuJoCo sees the values: its own messages ("nsim must be positive") name no key
+        cfg.check()
         self.cfg = cfg
         self.robot = get_robot(cfg.task.robot)
         self.object = get_object(cfg.task.object)

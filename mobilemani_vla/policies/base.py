@@ -33,6 +33,7 @@ class EvalPolicy:
         None  # (height, width) the policy's images were recorded at, if known
     )
     action_dim: int | None = None  # width of the actions it predicts, if fixed (a trained checkpoint's)
+    chunk_length: int | None = None  # actions per predicted chunk, if known before the first prediction
 
     def check_tasks(self, tasks: set[tuple[str, str, str]]) -> dict[str, str]:
         """Before anything runs or is written: stop with one error when a (robot, object, skill) task of the

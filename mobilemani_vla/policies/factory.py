@@ -7,12 +7,28 @@ from mobilemani_vla.eval_config import PolicyCfg
 from mobilemani_vla.policies.base import EvalPolicy
 
 KINDS = ("vla", "lerobot", "teacher", "scripted", "random")
+# The kinds that read each setting: given to another kind, it would be ignored without a word.
+READ_BY = {
+    "checkpoint": ("vla", "lerobot", "teacher"),
+    "runs_dir": ("teacher",),
+    "device": ("vla", "lerobot"),
+    "batch_size": ("vla", "lerobot"),
+    "rename": ("lerobot",),
+}
 
 
 def build_policy(cfg: PolicyCfg) -> EvalPolicy:
     check_choice(cfg.kind, KINDS, "policy kind")
     if cfg.kind in ("vla", "lerobot") and not cfg.checkpoint:  # unset, or "" from `policy.checkpoint=`
         raise InputError(f"policy.kind={cfg.kind} needs policy.checkpoint=<checkpoint directory>")
+    defaults = PolicyCfg()
+    unread = [
+        f"policy.{key}={getattr(cfg, key)}"
+        for key, kinds in READ_BY.items()
+        if cfg.kind not in kinds and getattr(cfg, key) and getattr(cfg, key) != getattr(defaults, key)
+    ]
+    if unread:
+        raise InputError(f"policy.kind={cfg.kind} does not read {', '.join(unread)}; leave it out")
     if cfg.kind == "vla":
         from mobilemani_vla.policies.vla import VLAEvalPolicy
 

@@ -25,7 +25,13 @@ from mobilemani_rl.teacher import (
 from mobilemani_vla.policies.base import PRIVILEGED_STATE, EvalPolicy, Observation
 
 
-class ScriptedEvalPolicy(EvalPolicy):
+class PrivilegedPolicy(EvalPolicy):
+    """Acts from the simulator's state, one action per chunk."""
+
+    chunk_length = 1
+
+
+class ScriptedEvalPolicy(PrivilegedPolicy):
     """mobilemani_rl.scripted, which reads the task state of the env it is bound to."""
 
     name = "scripted"
@@ -37,7 +43,7 @@ class ScriptedEvalPolicy(EvalPolicy):
         return self.policy()[:, None]
 
 
-class RandomPolicy(EvalPolicy):
+class RandomPolicy(PrivilegedPolicy):
     """Uniform actions in [-1, 1]: the floor every benchmark entrant should beat."""
 
     name = "random"
@@ -51,7 +57,7 @@ class RandomPolicy(EvalPolicy):
         return self.rng.uniform(-1.0, 1.0, size=(len(obs[PRIVILEGED_STATE]), 1, self.action_dim))
 
 
-class TeacherEvalPolicy(EvalPolicy):
+class TeacherEvalPolicy(PrivilegedPolicy):
     """Deterministic actor of a PPO checkpoint on the privileged RL observation.
 
     `checkpoint` fixes one checkpoint; otherwise each task uses the newest model_*.pt under

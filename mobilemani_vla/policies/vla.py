@@ -24,6 +24,7 @@ class VLAEvalPolicy(EvalPolicy):
         self.image_size = recorded_image_size(checkpoint)  # render as the training data was rendered
         self.batch_size = batch_size
         self.action_dim = self.policy.cfg.action_dim
+        self.chunk_length = self.policy.cfg.diffusion.chunk
         self.inputs = frozenset(
             {camera_key(c) for c in self.policy.cameras} | set(self.policy.vector_inputs) | {TASK}
         )
