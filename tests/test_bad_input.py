@@ -356,6 +356,13 @@ def test_command_line_tools_name_the_bad_option(module, argv, message, capsys, t
         ("rl.ppo.num_mini_batches=1000", r"rl.ppo.num_mini_batches=1000 \(at most the 64 samples"),
         ("rl.ppo.actor_hidden_dims=[64,0]", r"rl.ppo.actor/critic_hidden_dims=\[64, 0, "),
         ("rl.ppo.warm_start.learning_rate=0", r"rl.ppo.warm_start.learning_rate=0.0 \(above 0\)"),
+        # numpy's "expected non-negative integer" once the env was built, after the run dir was written
+        ("rl.ppo.seed=-1", r"rl.ppo.seed=-1 \(>= 0\)"),
+        (
+            "task.scene=door/00",
+            r"scene 'door/00' is a door placement but test/box \(box\) goes into tabletop; "
+            "valid scenes: tabletop/00 to tabletop/19$",
+        ),
     ],
 )
 def test_rl_training_checks_its_config_before_writing_the_run_dir(tmp_path, override, named):
@@ -387,6 +394,7 @@ def test_env_keys_that_data_and_evaluation_set_are_refused(tmp_path):
         ("env.physics.control_hz=0", r"env.physics.control_hz=0.0 \(above 0\)"),
         ("env.physics.solver_iterations=0", "env.physics.solver_iterations=0"),
         ("env.physics.nthread=-1", r"env.physics.nthread=-1 \(>= 0\)"),
+        ("env.seed=-1", r"env.seed=-1 \(>= 0\)"),
         ("env.success.threshold=0", r"env.success.threshold=0.0 \(above 0\)"),
         ("env.success.hold_steps=0", "env.success.hold_steps=0"),
         ("env.obs_clip=0", r"env.obs_clip=0.0 \(above 0\)"),

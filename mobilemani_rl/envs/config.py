@@ -148,8 +148,10 @@ class EnvParamsCfg:
             "env.success.max_hand_distance": success.max_hand_distance,
             "env.success.max_speed": success.max_speed,
         }
-        # a thread count (0: all cores), the IK damping, and spreads the resets draw as U(0, x) or U(-x, x)
+        # a seed (numpy takes non-negative ones), a thread count (0: all cores), the IK damping, and
+        # spreads the resets draw as U(0, x) or U(-x, x)
         non_negative = {
+            "env.seed": self.seed,
             "env.physics.nthread": physics.nthread,
             "env.actions.ik_damping": actions.ik_damping,
             "env.reset.yaw_jitter_deg": reset.yaw_jitter_deg,

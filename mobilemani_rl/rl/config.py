@@ -110,6 +110,7 @@ class RLCfg:
 
         from mobilemani_rl.assets.objects import CATEGORIES, OBJECTS, catalog_ids, check_skill, object_choices
         from mobilemani_rl.assets.robots import get_robot
+        from mobilemani_rl.assets.scenes.placements import check_setting, get_placement
 
         ppo = self.rl.ppo
         check_positive(
@@ -164,6 +165,9 @@ class RLCfg:
                     ">= 0; 0: torch's default",
                 ),
                 ("rl.ppo.warm_start.episodes", warm.episodes, warm.episodes >= 0, ">= 0; 0: no warm start"),
+                # numpy seeds its generators with non-negative integers only
+                ("rl.ppo.seed", ppo.seed, ppo.seed >= 0, ">= 0"),
+                ("rl.ppo.warm_start.seed", warm.seed, warm.seed >= 0, ">= 0"),
                 ("rl.ppo.warm_start.action_noise", warm.action_noise, warm.action_noise >= 0, ">= 0"),
                 ("rl.ppo.warm_start.learning_rate", warm.learning_rate, warm.learning_rate > 0, "above 0"),
                 ("rl.ppo.warm_start.noise_std", warm.noise_std, warm.noise_std > 0, "above 0"),
@@ -179,14 +183,17 @@ class RLCfg:
             raise InputError(f"rl.ppo.activation: {err}") from err
         get_robot(self.task.robot)
         if self.task.object in CATEGORIES:  # its objects are of one kind: the first has the category's skills
-            check_skill(OBJECTS[catalog_ids(self.task.object)[0]], self.task.skill)
+            obj = OBJECTS[catalog_ids(self.task.object)[0]]
         elif self.task.object in OBJECTS:
-            check_skill(OBJECTS[self.task.object], self.task.skill)
+            obj = OBJECTS[self.task.object]
         else:
             raise UnknownNameError(
                 f"unknown task.object {self.task.object!r}; valid: an object ({object_choices()}) "
                 f"or a category, which trains one policy for several of its objects ({', '.join(CATEGORIES)})"
             )
+        check_skill(obj, self.task.skill)
+        if self.task.scene:
+            check_setting(obj, get_placement(self.task.scene))
         check_env_block(self.env, {"num_envs": "rl.ppo.num_envs", "seed": "rl.ppo.seed"})
         return self
 

@@ -20,7 +20,7 @@ from mobilemani_rl.assets.scenes.footprint import Footprint, object_footprint
 from mobilemani_rl.assets.scenes.furniture import support_table
 from mobilemani_rl.assets.scenes.layout import Rect, Wall, line_walls
 from mobilemani_rl.assets.scenes.lot import build_parking_lot
-from mobilemani_rl.assets.scenes.placements import Placement, placements_for, setting_of
+from mobilemani_rl.assets.scenes.placements import Placement, check_setting
 from mobilemani_rl.assets.scenes.rooms import (
     Opening,
     RoomBox,
@@ -56,12 +56,7 @@ def sample_room_offsets(rng: np.random.Generator, n: int, cfg: RoomJitterCfg | N
 def add_scene(spec: mujoco.MjSpec, placement: Placement, obj: ObjectModel, pick_y_offset: float) -> None:
     """Add the placement's room (or parking lot) around the object's slot, in place; `pick_y_offset` is the
     running reset config's, so the room keeps clear of where the env puts rigid objects."""
-    if setting_of(obj) is not placement.setting:
-        valid = ", ".join(p.scene_id for p in placements_for(obj))
-        raise ValueError(
-            f"scene {placement.scene_id!r} is a {placement.setting.value} placement but "
-            f"{obj.object_id} ({obj.category}) goes into {setting_of(obj).value}; valid scenes: {valid}"
-        )
+    check_setting(obj, placement)
     for name in PLAIN_SCENE_GEOMS:
         spec.geom(name).group = HIDDEN_GROUP
     rng = placement.rng()

@@ -13,7 +13,7 @@ import numpy as np
 
 from mobilemani_rl.assets.objects import ObjectModel, Place
 from mobilemani_rl.assets.scenes.styles import INDOOR_STYLES, PARKING_LOT
-from mobilemani_rl.registry import lookup
+from mobilemani_rl.registry import UnknownNameError
 
 TRAIN_PER_SETTING, TEST_PER_SETTING = 16, 4
 SUPPORT_HEIGHT_RANGE = (0.22, 0.76)  # tabletop table heights in the reference rooms
@@ -62,8 +62,29 @@ PLACEMENTS: dict[str, Placement] = {
 }
 
 
+def scene_choices(ids: list[str]) -> str:
+    """Scene ids as one span per setting (`tabletop/00 to tabletop/19, ...`): a hundred names would bury the
+    error."""
+    by_setting: dict[str, list[str]] = {}
+    for scene_id in ids:
+        by_setting.setdefault(scene_id.split("/")[0], []).append(scene_id)
+    return ", ".join(f"{s[0]} to {s[-1]}" if len(s) > 1 else s[0] for s in by_setting.values())
+
+
 def get_placement(scene_id: str) -> Placement:
-    return lookup(PLACEMENTS, scene_id, "scene")
+    if scene_id not in PLACEMENTS:
+        raise UnknownNameError(f"unknown scene {scene_id!r}; valid scenes: {scene_choices(list(PLACEMENTS))}")
+    return PLACEMENTS[scene_id]
+
+
+def check_setting(obj: ObjectModel, placement: Placement) -> None:
+    """The object goes into the placement's setting (a box onto a tabletop, a car into a parking lot)."""
+    if setting_of(obj) is not placement.setting:
+        raise UnknownNameError(
+            f"scene {placement.scene_id!r} is a {placement.setting.value} placement but "
+            f"{obj.object_id} ({obj.category}) goes into {setting_of(obj).value}; "
+            f"valid scenes: {scene_choices(scene_ids(setting_of(obj)))}"
+        )
 
 
 def setting_of(obj: ObjectModel) -> Place:
