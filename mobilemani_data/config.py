@@ -9,6 +9,7 @@ The env block (conf/env) is the RL env's EnvCfg; collection turns on its recordi
 from __future__ import annotations
 
 from dataclasses import dataclass, field
+from fractions import Fraction
 from typing import get_args
 
 import av
@@ -16,7 +17,7 @@ import av
 from mobilemani_data import schema
 from mobilemani_rl.base_frame import Convention
 from mobilemani_rl.envs.config import EnvCfg, EnvParamsCfg, RobotChoiceCfg, check_env_block
-from mobilemani_rl.registry import InputError, check_choice, check_positive, check_values
+from mobilemani_rl.registry import InputError, check_choice, check_positive, check_values, first_sentence
 from mobilemani_rl.schema import register_schema
 from mobilemani_rl.tasks import SubsetCfg
 
@@ -72,8 +73,9 @@ class ExportCfg:
     overwrite: bool = False
 
     def check(self) -> None:
-        """Streams non-empty, known and without repeats, room_repaint in [0, 1], vcodec an encoder: checked
-        with the rest of DataCfg, so `make data` stops before collecting, not after."""
+        """Streams non-empty, known and without repeats, room_repaint in [0, 1], vcodec an encoder that opens
+        at the export's size with these options: checked with the rest of DataCfg, so `make data` stops before
+        collecting, not after."""
         for key, values, valid in (
             ("export.cameras", self.cameras, schema.CAMERAS),
             ("export.modalities", self.modalities, schema.MODALITIES),
@@ -92,6 +94,26 @@ class ExportCfg:
             raise InputError(
                 f"export.vcodec={self.vcodec!r} is no video encoder of this ffmpeg; "
                 "e.g. libsvtav1 (the default) or h264"
+            ) from err
+        # Opening the encoder with the export's size and options is ffmpeg's own check: libx264 refuses an odd
+        # size in 4:2:0 and SVT-AV1 a preset out of range only when the first frame comes, after collection.
+        context = av.CodecContext.create(self.vcodec, "w")
+        # yuv420p: the pixel format of LeRobot's RGB encoder, which the export uses
+        context.width, context.height, context.pix_fmt = self.width, self.height, "yuv420p"
+        context.time_base = Fraction(1, schema.FPS)
+        options = {"g": self.gop, "crf": self.crf} | ({} if self.preset is None else {"preset": self.preset})
+        context.options = {key: str(value) for key, value in options.items()}
+        try:
+            with av.logging.Capture():  # ffmpeg's own lines would precede the one error; it quotes the last
+                context.open()
+        except av.error.FFmpegError as err:
+            given = ", ".join(
+                f"export.{key}={getattr(self, key)}" for key in ("width", "height", "crf", "gop", "preset")
+            )
+            odd = self.width % 2 or self.height % 2
+            raise InputError(
+                f"export.vcodec={self.vcodec} does not open with {given}: {first_sentence(err)}"
+                + (" (4:2:0 video such as h264's needs even sizes)" if odd else "")
             ) from err
 
 

@@ -14,7 +14,8 @@ from mobilemani_rl.registry import InputError
 def entry_point[T](main: Callable[..., T]) -> Callable[..., T]:
     """Wrap an entry point's main (a Hydra task function or an argparse main): an InputError prints
     `error: <message>` and exits with status 2, as argparse does for its own errors (Hydra would print the
-    traceback); any other exception keeps its traceback, as it is a bug to report."""
+    traceback). So does an output path that runs into a file where a folder must be made; any other exception
+    keeps its traceback, as it is a bug to report."""
 
     @functools.wraps(main)
     def run(*args, **kwargs) -> T:
@@ -23,8 +24,22 @@ def entry_point[T](main: Callable[..., T]) -> Callable[..., T]:
         except InputError as err:
             print(f"error: {err}", file=sys.stderr)
             sys.exit(2)
+        except (FileExistsError, NotADirectoryError) as err:
+            file = file_in_the_way(Path(err.filename or ""))
+            if file is None:
+                raise
+            print(
+                f"error: cannot make the folder {err.filename}: {file} is a file; choose another path",
+                file=sys.stderr,
+            )
+            sys.exit(2)
 
     return run
+
+
+def file_in_the_way(folder: Path) -> Path | None:
+    """The file at `folder` or at one of its parents, which stops the folder from being made; None if none."""
+    return next((path for path in (folder, *folder.parents) if path.exists() and not path.is_dir()), None)
 
 
 def count(text: str) -> int:

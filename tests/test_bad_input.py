@@ -37,11 +37,22 @@ def test_non_positive_counts_name_their_keys(tmp_path):
         ("validate.replay_episodes=-1", r"validate.replay_episodes=-1 \(>= 0\)"),
         ("preview.episodes=0", "preview.episodes=0"),
         ("bench.sizes=[224,0]", r"bench.sizes=\[224, 0\] \(image sizes in pixels, >= 1\)"),
+        # the encoder refused these when the export's first frame came, after collection
+        (
+            "export.vcodec=libsvtav1 export.preset=99",
+            r"export.vcodec=libsvtav1 does not open with export.width=64, export.height=64, export.crf=30, "
+            r"export.gop=2, export.preset=99: \[Errno 34\] Numerical result out of range",
+        ),
+        (
+            "export.width=65",
+            r"export.vcodec=h264 does not open with export.width=65, .*width not divisible by 2 \(65x64\) "
+            r"\(4:2:0 video such as h264's needs even sizes\)$",
+        ),
     ],
 )
 def test_data_values_name_their_keys_before_anything_is_written(tmp_path, override, named):
     with pytest.raises(ValueError, match=named):
-        tiny_cfg(tmp_path, override)
+        tiny_cfg(tmp_path, *override.split())
     assert not any(tmp_path.iterdir())
 
 
@@ -276,6 +287,39 @@ def test_entry_points_end_bad_input_with_one_line_and_keep_tracebacks_for_bugs(t
     )
     assert done.returncode == 2 and done.stderr == "error: these must be at least 1: subset.episodes=-2\n"
     assert not (tmp_path / "data").exists()
+
+
+def test_an_output_path_through_a_file_ends_with_one_line_naming_the_file(tmp_path, capsys):
+    """`run_dir=`, `data_dir=`, `output_dir=` or `train.output_dir=` naming a file (or a path below one) ended
+    in FileExistsError's or NotADirectoryError's traceback when the stage made its folder."""
+    import subprocess
+    import sys
+
+    from mobilemani_rl.cli import entry_point
+
+    a_file = tmp_path / "notes.txt"
+    a_file.write_text("kept")
+    for folder in (a_file, a_file / "run"):
+
+        @entry_point
+        def make_output(folder: Path = folder) -> None:
+            folder.mkdir(parents=True, exist_ok=True)
+
+        with pytest.raises(SystemExit) as stop:
+            make_output()
+        message = f"error: cannot make the folder {folder}: {a_file} is a file; choose another path\n"
+        assert stop.value.code == 2 and capsys.readouterr().err == message
+    with pytest.raises(FileExistsError):  # not about a folder: a bug keeps its traceback
+        entry_point(lambda: (_ for _ in ()).throw(FileExistsError("no path")))()
+    done = subprocess.run(
+        [sys.executable, "-m", "mobilemani_data.collect", "data/subset=tiny", f"data_dir={a_file}"],
+        cwd=ROOT,
+        capture_output=True,
+        text=True,
+        env=checkout_env(),
+    )
+    assert done.returncode == 2 and done.stderr.endswith(f"{a_file} is a file; choose another path\n")
+    assert a_file.read_text() == "kept"
 
 
 @pytest.mark.parametrize(
