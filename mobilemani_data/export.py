@@ -35,6 +35,7 @@ from mobilemani_data.shards import Shard, ShardError, read_shard, shard_paths
 from mobilemani_rl.assets.robots import RobotDescription, get_robot
 from mobilemani_rl.cli import entry_point
 from mobilemani_rl.envs.config import with_env_task
+from mobilemani_rl.io import read_json
 from mobilemani_rl.registry import MissingFileError, OutputExistsError
 from mobilemani_rl.render import CameraRenderCfg, CameraRenderer
 from mobilemani_rl.render.appearance import RoomRepainter
@@ -164,7 +165,7 @@ def export_source(cfg: ExportCfg, raw_dir: Path, paths: list[Path]) -> dict:
 def up_to_date_report(root: Path, source: dict) -> dict | None:
     """The dataset's export report when it was exported from `source`, else None."""
     path = root / schema.EXPORT_REPORT_FILE
-    report = json.loads(path.read_text()) if path.is_file() else {}
+    report = read_json(path) if path.is_file() else {}
     return report if report.get("source") == source else None
 
 

@@ -10,6 +10,7 @@ from lerobot.datasets.dataset_metadata import LeRobotDatasetMetadata
 from lerobot.datasets.video_utils import FrameTimestampError
 
 from mobilemani_data import schema
+from mobilemani_rl.io import read_json
 from mobilemani_rl.registry import MissingFileError
 
 
@@ -23,7 +24,7 @@ def read_episodes(root: Path) -> list[dict]:
 
 
 def read_export_report(root: Path) -> dict:
-    return json.loads((root / schema.EXPORT_REPORT_FILE).read_text())
+    return read_json(root / schema.EXPORT_REPORT_FILE)
 
 
 # What decoding a damaged video raises: PyAV's errors, or LeRobot's when a file cut short lacks the frames

@@ -7,7 +7,6 @@ Evaluation (`mobilemani_rl.eval`), data collection (`mobilemani_data.teachers`) 
 
 from __future__ import annotations
 
-import json
 from collections.abc import Iterable
 from pathlib import Path
 
@@ -18,6 +17,7 @@ from tensordict import TensorDict
 
 from mobilemani_rl.assets.objects import get_object
 from mobilemani_rl.envs.batched import BatchedEnv
+from mobilemani_rl.io import read_json
 from mobilemani_rl.registry import MissingFileError
 from mobilemani_rl.rl.factory import build_runner
 from mobilemani_rl.rl.run_dir import CONFIG, RESULT, latest_checkpoint
@@ -71,7 +71,7 @@ def find_every_teacher(
 def trained_success(run_dir: Path) -> float | None:
     """The success rate the run reached in training (its result.json); None while it has not finished."""
     path = run_dir / RESULT
-    return json.loads(path.read_text()).get("train_success") if path.is_file() else None
+    return read_json(path).get("train_success") if path.is_file() else None
 
 
 def run_config(checkpoint: Path) -> DictConfig:

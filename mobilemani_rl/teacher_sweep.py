@@ -21,7 +21,6 @@ objects (`rl_by_skill`, `rl_by_category`). Checkpoints stay under `--runs`.
 from __future__ import annotations
 
 import argparse
-import json
 import sys
 import time
 from pathlib import Path
@@ -33,7 +32,7 @@ from omegaconf import DictConfig
 from mobilemani_rl.assets.objects import ALL_SKILLS, CATEGORIES, catalog_ids, get_object
 from mobilemani_rl.cli import entry_point
 from mobilemani_rl.eval import evaluate
-from mobilemani_rl.io import write_json_atomic
+from mobilemani_rl.io import read_json, write_json_atomic
 from mobilemani_rl.registry import InputError, check_choice
 from mobilemani_rl.rl.config import RLCfg
 from mobilemani_rl.rl.run_dir import RESULT, WARM_START, is_complete, latest_checkpoint
@@ -110,7 +109,7 @@ def checked_row_config(overrides: list[str]) -> DictConfig:
 
 def spent_seconds(run_dir: Path) -> float | None:
     path = run_dir / WALL
-    return json.loads(path.read_text())["seconds"] if path.is_file() else None
+    return read_json(path)["seconds"] if path.is_file() else None
 
 
 def run_row(cfg: DictConfig) -> None:
@@ -129,13 +128,13 @@ def run_row(cfg: DictConfig) -> None:
 def warm_start_success(run_dir: Path) -> float | None:
     """The scripted demonstrations' success on the trained objects (None: trained from scratch)."""
     path = run_dir / WARM_START
-    return json.loads(path.read_text())["scripted_success"] if path.is_file() else None
+    return read_json(path)["scripted_success"] if path.is_file() else None
 
 
 def row_record(robot: str, category: str, skill: str, run_dir: Path, command: str) -> dict:
     """What the tables need from a finished row: success on test and on trained objects, cost, command."""
-    evaluation = json.loads(evaluation_file(run_dir).read_text())
-    result = json.loads((run_dir / RESULT).read_text())
+    evaluation = read_json(evaluation_file(run_dir))
+    result = read_json(run_dir / RESULT)
     objects = evaluation["objects"]
     test = {i: o["success_rate"] for i, o in objects.items() if o["split"] == "test"}
     return {
@@ -177,7 +176,7 @@ def diagnosis(record: dict) -> str:
 
 def merged_records(path: Path, new: list[dict]) -> list[dict]:
     """`new` over the records already in `path` (earlier runs of other rows), in catalog order."""
-    old = json.loads(path.read_text()) if path.is_file() else []
+    old = read_json(path) if path.is_file() else []
     by_row = {(r["category"], r["skill"]): r for r in [*old, *new]}
     return [by_row[row] for row in rows() if row in by_row]
 

@@ -11,13 +11,14 @@ evaluation files the tables show only those, and a line names the missing input.
 from __future__ import annotations
 
 import argparse
-import json
 from collections import defaultdict
 from pathlib import Path
 
 import numpy as np
 
 from mobilemani_rl.assets.objects import CATEGORIES, OBJECTS, SPLITS, catalog_ids
+from mobilemani_rl.cli import entry_point
+from mobilemani_rl.io import read_json
 from mobilemani_rl.tables import Table, pct
 
 ROBOTS = ("g1", "xhand")
@@ -39,7 +40,7 @@ def newest_results(root: Path) -> list[dict]:
     for path in root.rglob("eval_*.json"):
         if path.parent not in newest or path.stat().st_mtime > newest[path.parent].stat().st_mtime:
             newest[path.parent] = path
-    return [json.loads(p.read_text()) for p in newest.values()]
+    return [read_json(p) for p in newest.values()]
 
 
 def object_success(results: list[dict], split: str | None = None) -> dict[tuple[str, str, str], float]:
@@ -104,6 +105,7 @@ def skill_table(success: dict[tuple[str, str, str], float]) -> Table:
     )
 
 
+@entry_point
 def main() -> None:
     parser = argparse.ArgumentParser(
         description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter

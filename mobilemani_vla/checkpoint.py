@@ -25,6 +25,7 @@ from safetensors.torch import load_file, load_model, save_file, save_model
 from torch.optim.swa_utils import AveragedModel
 from transformers import PaliGemmaConfig, PreTrainedTokenizerBase
 
+from mobilemani_rl.io import read_json
 from mobilemani_rl.registry import InputError, MissingFileError
 from mobilemani_vla.config import VLACfg, vla_cfg_from_yaml, vla_cfg_to_yaml
 from mobilemani_vla.model import MobileManiVLA, build_model
@@ -111,13 +112,13 @@ def publish(tmp: Path, final: Path, keep: int) -> None:
 
 
 def checkpoint_step(directory: Path) -> int:
-    return json.loads((directory / STATE).read_text())["step"]
+    return read_json(directory / STATE)["step"]
 
 
 def recorded_image_size(directory: str | Path) -> tuple[int, int] | None:
     """(height, width) of the training dataset's images, when the checkpoint recorded it."""
     path = Path(directory) / DATASET
-    return tuple(json.loads(path.read_text())["image_size"]) if path.is_file() else None
+    return tuple(read_json(path)["image_size"]) if path.is_file() else None
 
 
 def load_ema(ema: AveragedModel, directory: Path) -> None:

@@ -29,7 +29,7 @@ from mobilemani_rl.assets.robots import get_robot
 from mobilemani_rl.cli import entry_point
 from mobilemani_rl.envs.config import TaskCfg, with_env_task
 from mobilemani_rl.envs.mobilemani_env import MobileManiEnv, StepResult
-from mobilemani_rl.io import write_json_atomic
+from mobilemani_rl.io import read_json, write_json_atomic
 from mobilemani_rl.process_pool import run_in_pool
 from mobilemani_rl.progress import Progress
 from mobilemani_rl.registry import ConfigMismatchError, InputError
@@ -136,7 +136,7 @@ def check_same_settings(out: Path, settings: dict, task_checkpoints: dict[str, s
     saved = out / "config.json"
     if not saved.exists() or not any(p.stat().st_size for p in out.glob("*.jsonl")):
         return task_checkpoints
-    config = json.loads(saved.read_text())
+    config = read_json(saved)
     changes = changed_values(config["eval"], settings, RESULT_SETTINGS)
     before = config.get("task_checkpoints", {})
     changes += [

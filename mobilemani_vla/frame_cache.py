@@ -22,6 +22,7 @@ from lerobot.datasets.video_utils import decode_video_frames
 from tqdm import tqdm
 
 from mobilemani_data.metadata import VIDEO_DECODE_ERRORS
+from mobilemani_rl.io import read_json
 from mobilemani_rl.registry import InputError, first_sentence
 from mobilemani_vla.processor import camera_key, resize_images
 
@@ -116,6 +117,6 @@ def cached_images(
     target = cache_dir(root, cameras, size)
     fingerprint = dataset_fingerprint(root)
     manifest = target / MANIFEST
-    if not manifest.is_file() or json.loads(manifest.read_text()).get("fingerprint") != fingerprint:
+    if not manifest.is_file() or read_json(manifest).get("fingerprint") != fingerprint:
         _build(root, meta, cameras, size, backend, target, fingerprint, progress)
     return np.load(target / IMAGES, mmap_mode="r")

@@ -15,7 +15,6 @@ by name.
 from __future__ import annotations
 
 import argparse
-import json
 import shutil
 import sys
 from contextlib import nullcontext
@@ -24,6 +23,7 @@ from pathlib import Path
 from mobilemani_data.metadata import open_dataset_metadata
 from mobilemani_data.video import quiet_video_libraries
 from mobilemani_rl.cli import entry_point
+from mobilemani_rl.io import read_json
 from mobilemani_rl.registry import ConfigMismatchError, InputError, OutputExistsError, check_values
 
 FLAG = "--frame_cache="
@@ -81,8 +81,8 @@ def continued(argv: list[str]) -> list[str] | None:
             f"--output_dir={run} exists without a LeRobot run's {LAST} to resume from; "
             "choose another or delete it"
         )
-    reached = json.loads(step_file.read_text())["step"]
-    saved = json.loads((run / LAST / "pretrained_model" / "train_config.json").read_text())
+    reached = read_json(step_file)["step"]
+    saved = read_json(run / LAST / "pretrained_model" / "train_config.json")
     changed = changed_settings(saved, args)
     steps = int(args.steps) if args.steps is not None else saved["steps"]
     if steps < reached:

@@ -16,6 +16,8 @@ from pathlib import Path
 import numpy as np
 import torch
 
+from mobilemani_rl.io import read_json
+
 EPS = 1e-8
 
 
@@ -60,4 +62,4 @@ class Normalizer:
 
     @classmethod
     def load(cls, path: Path) -> Normalizer:
-        return cls({k: (v["min"], v["max"]) for k, v in json.loads(path.read_text()).items()})
+        return cls({k: (v["min"], v["max"]) for k, v in read_json(path).items()})

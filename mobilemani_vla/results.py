@@ -16,6 +16,7 @@ from pathlib import Path
 
 import numpy as np
 
+from mobilemani_rl.io import read_json
 from mobilemani_rl.writer_lock import WriterLock, busy
 
 Key = tuple[str, str, str, str, int]
@@ -54,7 +55,7 @@ def finished(results_path: Path, records: list[dict]) -> bool:
     """Whether the evaluation that wrote these records ran to its end. A running, killed or later grown run
     has no summary, or one of fewer episodes."""
     path = summary_path(results_path)
-    return path.exists() and json.loads(path.read_text()).get("episodes") == len(records)
+    return path.exists() and read_json(path).get("episodes") == len(records)
 
 
 class ResultsFile:

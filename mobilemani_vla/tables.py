@@ -23,6 +23,7 @@ from matplotlib.axes import Axes
 from matplotlib.figure import Figure  # the object API: no pyplot backend to select, nothing global changed
 
 from mobilemani_rl.assets.objects import CATEGORIES, catalog_ids
+from mobilemani_rl.cli import entry_point
 from mobilemani_rl.tables import Table, pct
 from mobilemani_vla.results import SKILL_GROUPS, finished, read_records, summarize
 
@@ -327,6 +328,7 @@ def marking_unfinished(results: RecordingResults, build: Callable[[], Table]) ->
     return table
 
 
+@entry_point
 def main() -> None:
     parser = argparse.ArgumentParser(
         description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter

@@ -77,6 +77,19 @@ def test_tables_without_teacher_evaluations_name_the_missing_input(tmp_path, mon
     assert "| Open | - | - | 86.6 | 91.9 |" in (tmp_path / "out" / "rl_by_skill.md").read_text()
 
 
+def test_a_damaged_teacher_evaluation_is_named(tmp_path, monkeypatch, capsys):
+    """A cut-short eval_*.json ended `make tables` in json's traceback, naming no file."""
+    damaged = tmp_path / "rl" / "g1" / "box" / "open" / "eval_model_9_0.json"
+    damaged.parent.mkdir(parents=True)
+    damaged.write_text('{"task": {"robot": "g1", ')
+    monkeypatch.setattr("sys.argv", ["teacher_tables", str(tmp_path / "rl"), "--out", str(tmp_path / "out")])
+    with pytest.raises(SystemExit) as stop:
+        teacher_tables.main()
+    err = capsys.readouterr().err
+    assert stop.value.code == 2 and err.startswith(f"error: {damaged} is damaged, not JSON (Expecting")
+    assert err.endswith("restore it, or rerun the stage that writes it\n") and not (tmp_path / "out").exists()
+
+
 def test_latex_escapes_and_rules():
     table = Table(["Object", "Rate"], [["washing_machine", "50%"], ["Mean", "1"]], "A & B", separators=(1,))
     latex = table.latex()

@@ -5,7 +5,6 @@ from __future__ import annotations
 
 import contextlib
 import io
-import json
 import os
 from collections.abc import Iterator
 from pathlib import Path
@@ -17,7 +16,7 @@ from rsl_rl.runners import OnPolicyRunner
 from rsl_rl.utils.logger import Logger
 from tqdm import tqdm
 
-from mobilemani_rl.io import write_json_atomic
+from mobilemani_rl.io import read_json, write_json_atomic
 from mobilemani_rl.registry import InputError, first_sentence
 from mobilemani_rl.rl.run_dir import CURVE
 
@@ -181,7 +180,7 @@ class MobileManiRunner(OnPolicyRunner):
         checkpoint); its sample and training-second counts go on from the last kept row, so they count the
         whole run, not the piece since the resume."""
         if self.curve_path is not None and self.curve_path.is_file():
-            rows = json.loads(self.curve_path.read_text())
+            rows = read_json(self.curve_path)
             self.logger.curve = [row for row in rows if row["iteration"] < start]
             if self.logger.curve:
                 self.logger.tot_timesteps = int(self.logger.curve[-1]["samples"])
