@@ -126,7 +126,7 @@ class TrainCfg:
     diagnose_cfg_scales: list[float] = field(default_factory=lambda: [1.0, 1.5])  # open-loop error per scale
     save_every: int = 500
     keep_checkpoints: int = 2
-    resume: bool = True  # continue from the newest checkpoint in output_dir
+    resume: bool = True  # continue from the newest checkpoint in output_dir; false: refuse one that holds any
     logger: str = "wandb"  # "wandb" (offline unless WANDB_MODE says otherwise) or "none"
     progress: bool = True
     seed: int = 0

@@ -5,8 +5,8 @@ mobilemani_vla.train vla/model=paligemma2_3b vla/train=paper ...` (DDP, bf16 fro
 an FSDP accelerate config (accelerate's FSDP files, plus the gathered weights as model.safetensors, which
 evaluation loads; sharded FSDP runs without the weight EMA and the held-out diagnostics). Checkpoints
 (safetensors + config + normaliser + tokenizer) go to train.output_dir/checkpoints; a run resumes from the
-newest one there unless train.resume=false. The main process holds train.output_dir/train.lock while it
-trains, so a second run on the directory stops at once.
+newest one there (train.resume=false: a new run only, refused where checkpoints are). The main process holds
+train.output_dir/train.lock while it trains, so a second run on the directory stops at once.
 """
 
 from __future__ import annotations
@@ -32,7 +32,7 @@ from tqdm import tqdm
 from transformers import PreTrainedTokenizerBase
 
 from mobilemani_rl.cli import entry_point
-from mobilemani_rl.registry import InputError, first_sentence
+from mobilemani_rl.registry import InputError, OutputExistsError, first_sentence
 from mobilemani_rl.rl.run_dir import TRAIN_LOCK
 from mobilemani_rl.schema import to_dataclass
 from mobilemani_rl.writer_lock import WriterLock, busy
@@ -99,7 +99,13 @@ def _batches(loader: DataLoader):
 def _resume_point(cfg: VLACfg, output_dir: Path) -> Path | None:
     """The newest readable checkpoint to continue from (one with unreadable weights or training state is named
     and skipped); one of another model/input/diffusion setup or of other training data is refused."""
-    found = finished_checkpoints(output_dir) if cfg.train.resume else []
+    found = finished_checkpoints(output_dir)
+    # A new run's checkpoints beside an earlier run's would be resumed as one run.
+    if found and not cfg.train.resume:
+        raise OutputExistsError(
+            f"train.resume=false starts a new run, but {output_dir / 'checkpoints'} holds {found[-1].name} "
+            "of an earlier one; choose another train.output_dir or delete its checkpoints"
+        )
     if not found:
         return None
     saved = vla_cfg_from_yaml((found[-1] / "config.yaml").read_text())
@@ -110,12 +116,12 @@ def _resume_point(cfg: VLACfg, output_dir: Path) -> Path | None:
     if differing:
         raise InputError(
             f"{found[-1]} was trained with a different {'/'.join(differing)} config; choose another "
-            "train.output_dir or set train.resume=false"
+            "train.output_dir or delete its checkpoints to start over"
         )
     if (reached := checkpoint_step(found[-1])) > cfg.train.steps:  # it would hand back a longer run's weights
         raise InputError(
             f"train.steps={cfg.train.steps}, but {found[-1]} is further on; only train.steps may grow, so "
-            f"ask for {reached} or more, choose another train.output_dir or set train.resume=false"
+            f"ask for {reached} or more, choose another train.output_dir or delete its checkpoints"
         )
     for checkpoint in reversed(found):
         if (why := unreadable_weights(checkpoint) or unreadable_training_state(checkpoint)) is None:
@@ -123,7 +129,7 @@ def _resume_point(cfg: VLACfg, output_dir: Path) -> Path | None:
         print(f"skipping an unreadable checkpoint: {why}", flush=True)
     raise InputError(
         f"no readable checkpoint in {output_dir / 'checkpoints'}; delete the damaged ones named above "
-        "or set train.resume=false"
+        "to start over"
     )
 
 
