@@ -217,7 +217,10 @@ def test_checkpoint_resume_and_policy(dataset_root, tmp_path):
     # It trained a new run beside step 5, which the next rerun would then have resumed as this run.
     with pytest.raises(ValueError, match=r"train.resume=false starts a new run, but .* holds step_00000005"):
         train(tiny_cfg(dataset_root, tmp_path, ["train.steps=1", "train.resume=false", states]))
-    assert [p.name for p in sorted((tmp_path / "checkpoints").iterdir())] == ["step_00000003", "step_00000005"]
+    assert [p.name for p in sorted((tmp_path / "checkpoints").iterdir())] == [
+        "step_00000003",
+        "step_00000005",
+    ]
 
     policy = VLAPolicy.load(resumed.checkpoint)
     frame = open_data(cfg, 32, progress=False).train[5]
