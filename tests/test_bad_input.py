@@ -478,6 +478,8 @@ def test_rl_evaluation_names_its_keys():
         EvalRlCfg().check()
     with pytest.raises(ValueError, match="episodes=0"):
         EvalRlCfg(checkpoint="model_1.pt", episodes=0).check()
+    with pytest.raises(ValueError, match="seed=-1 must be 0 or more"):  # it reached numpy's traceback
+        EvalRlCfg(checkpoint="model_1.pt", seed=-1).check()
 
 
 def test_a_run_directory_given_as_teacher_checkpoint_names_its_newest(tmp_path):

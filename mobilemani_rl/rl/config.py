@@ -218,6 +218,8 @@ class EvalRlCfg:
         check_positive({"episodes": self.episodes})
         if self.video_episodes < 0:
             raise InputError(f"video_episodes={self.video_episodes} must be 0 (no videos) or more")
+        if self.seed < 0:  # numpy seeds its generators with non-negative integers only
+            raise InputError(f"seed={self.seed} must be 0 or more")
         return self
 
 
