@@ -309,8 +309,13 @@ def test_an_output_path_through_a_file_ends_with_one_line_naming_the_file(tmp_pa
             make_output()
         message = f"error: cannot make the folder {folder}: {a_file} is a file; choose another path\n"
         assert stop.value.code == 2 and capsys.readouterr().err == message
-    with pytest.raises(FileExistsError):  # not about a folder: a bug keeps its traceback
-        entry_point(lambda: (_ for _ in ()).throw(FileExistsError("no path")))()
+
+    @entry_point
+    def not_about_a_folder() -> None:
+        raise FileExistsError("no path")
+
+    with pytest.raises(FileExistsError):  # a bug keeps its traceback
+        not_about_a_folder()
     done = subprocess.run(
         [sys.executable, "-m", "mobilemani_data.collect", "data/subset=tiny", f"data_dir={a_file}"],
         cwd=ROOT,
