@@ -23,9 +23,9 @@ def build_policy(cfg: PolicyCfg) -> EvalPolicy:
         raise InputError(f"policy.kind={cfg.kind} needs policy.checkpoint=<checkpoint directory>")
     defaults = PolicyCfg()
     unread = [
-        f"policy.{key}={getattr(cfg, key)}"
+        f"policy.{key}={value}"
         for key, kinds in READ_BY.items()
-        if cfg.kind not in kinds and getattr(cfg, key) and getattr(cfg, key) != getattr(defaults, key)
+        if cfg.kind not in kinds and (value := getattr(cfg, key)) and value != getattr(defaults, key)
     ]
     if unread:
         raise InputError(f"policy.kind={cfg.kind} does not read {', '.join(unread)}; leave it out")

@@ -7,6 +7,7 @@ type has 16 train + 4 test room entries; `room_id` indexes within the split).
 from __future__ import annotations
 
 import zlib
+from collections.abc import Iterable
 from dataclasses import dataclass
 
 import numpy as np
@@ -62,18 +63,15 @@ PLACEMENTS: dict[str, Placement] = {
 }
 
 
-def scene_choices(ids: list[str]) -> str:
-    """Scene ids as one span per setting (`tabletop/00 to tabletop/19, ...`): a hundred names would bury the
-    error."""
-    by_setting: dict[str, list[str]] = {}
-    for scene_id in ids:
-        by_setting.setdefault(scene_id.split("/")[0], []).append(scene_id)
-    return ", ".join(f"{s[0]} to {s[-1]}" if len(s) > 1 else s[0] for s in by_setting.values())
+def scene_choices(settings: Iterable[Place]) -> str:
+    """The settings' scene ids, one span each (`tabletop/00 to tabletop/19, ...`): a hundred names would bury
+    the error."""
+    return ", ".join(f"{ids[0]} to {ids[-1]}" for ids in map(scene_ids, settings))
 
 
 def get_placement(scene_id: str) -> Placement:
     if scene_id not in PLACEMENTS:
-        raise UnknownNameError(f"unknown scene {scene_id!r}; valid scenes: {scene_choices(list(PLACEMENTS))}")
+        raise UnknownNameError(f"unknown scene {scene_id!r}; valid scenes: {scene_choices(Place)}")
     return PLACEMENTS[scene_id]
 
 
@@ -83,7 +81,7 @@ def check_setting(obj: ObjectModel, placement: Placement) -> None:
         raise UnknownNameError(
             f"scene {placement.scene_id!r} is a {placement.setting.value} placement but "
             f"{obj.object_id} ({obj.category}) goes into {setting_of(obj).value}; "
-            f"valid scenes: {scene_choices(scene_ids(setting_of(obj)))}"
+            f"valid scenes: {scene_choices([setting_of(obj)])}"
         )
 
 
