@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import re
 from collections.abc import Iterable, Mapping
+from numbers import Integral
 
 
 class InputError(ValueError):
@@ -69,8 +70,22 @@ def check_values(rules: Iterable[tuple[str, object, bool, str]]) -> None:
         raise InputError("invalid values: " + "; ".join(bad))
 
 
+def is_count(value: object) -> bool:
+    """A whole number of at least 1. Hydra types config values, but the Python API takes anything: 2.5 envs
+    would reach MuJoCo's constructor, which names no key."""
+    return isinstance(value, Integral) and value >= 1
+
+
+def is_seed(value: object) -> bool:
+    """What numpy seeds a generator with: a whole number >= 0 (it refuses -1 and 1.5 naming neither key)."""
+    return isinstance(value, Integral) and value >= 0
+
+
 def check_positive(counts: Mapping[str, int | None]) -> None:
-    """Counts named by their config keys (None: unset) must be >= 1; stops with every offending key."""
-    bad = {key: value for key, value in counts.items() if value is not None and value < 1}
+    """Counts named by their config keys (None: unset) must be whole numbers >= 1; stops with every offending
+    key."""
+    bad = {key: value for key, value in counts.items() if value is not None and not is_count(value)}
     if bad:
-        raise InputError("these must be at least 1: " + ", ".join(f"{k}={v}" for k, v in bad.items()))
+        raise InputError(
+            "these must be whole numbers of at least 1: " + ", ".join(f"{k}={v!r}" for k, v in bad.items())
+        )

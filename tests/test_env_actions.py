@@ -6,6 +6,7 @@ import pytest
 from mobilemani_rl.envs.actions import checked_actions
 from mobilemani_rl.envs.config import EnvCfg, TaskCfg
 from mobilemani_rl.envs.mobilemani_env import MobileManiEnv
+from mobilemani_rl.registry import InputError
 from mobilemani_rl.rollout import run_first_episodes
 
 
@@ -34,3 +35,21 @@ def test_env_refuses_a_wrong_width_and_rollouts_report_nan_actions():
     stats = run_first_episodes(env, half_nan, seed=0)
     assert stats.nan_actions.tolist() == [0, 2 * stats.length[1], 0]
     assert stats.summary()["nan_action_entries"] == 2 * stats.length[1]
+
+
+def test_python_api_misuse_names_the_argument_before_the_simulator_sees_it():
+    """Each of these reached a library's message naming no argument: MuJoCo's constructor for 2.5 envs,
+    numpy's "expected non-negative integer" for a seed, an AttributeError for a step before any reset."""
+    for bad_count in (2.5, "2"):
+        with pytest.raises(InputError, match=f"whole numbers of at least 1: env.num_envs={bad_count!r}"):
+            MobileManiEnv(EnvCfg(num_envs=bad_count))
+    with pytest.raises(InputError, match=r"env.seed=1.5 \(an integer >= 0\)"):
+        MobileManiEnv(EnvCfg(num_envs=1, seed=1.5))
+    env = MobileManiEnv(EnvCfg(num_envs=2, task=TaskCfg(object="test/box", skill="open")))
+    with pytest.raises(RuntimeError, match=r"call reset\(\) before the first step\(\)"):
+        env.step(np.zeros((2, env.num_actions)))
+    for bad_seed in (-1, 1.5, "a"):
+        with pytest.raises(InputError, match=rf"reset\(seed={bad_seed!r}\): the seed must be an integer"):
+            env.reset(seed=bad_seed)
+    env.reset(seed=np.int64(3))  # numpy's own integers are seeds too
+    assert env.step(np.zeros((2, env.num_actions))).obs.shape == (2, env.num_obs)

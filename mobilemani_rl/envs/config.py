@@ -12,7 +12,7 @@ from typing import Any
 
 from omegaconf import DictConfig, OmegaConf
 
-from mobilemani_rl.registry import InputError, check_positive, check_values
+from mobilemani_rl.registry import InputError, check_positive, check_values, is_seed
 
 
 @dataclass
@@ -148,10 +148,8 @@ class EnvParamsCfg:
             "env.success.max_hand_distance": success.max_hand_distance,
             "env.success.max_speed": success.max_speed,
         }
-        # a seed (numpy takes non-negative ones), a thread count (0: all cores), the IK damping, and
-        # spreads the resets draw as U(0, x) or U(-x, x)
+        # a thread count (0: all cores), the IK damping, and spreads the resets draw as U(0, x) or U(-x, x)
         non_negative = {
-            "env.seed": self.seed,
             "env.physics.nthread": physics.nthread,
             "env.actions.ik_damping": actions.ik_damping,
             "env.reset.yaw_jitter_deg": reset.yaw_jitter_deg,
@@ -166,7 +164,8 @@ class EnvParamsCfg:
             "env.reset.room_jitter_y": reset.room_jitter_y,
         }
         check_values(
-            [(key, value, value > 0, "above 0") for key, value in above_zero.items()]
+            [("env.seed", self.seed, is_seed(self.seed), "an integer >= 0")]
+            + [(key, value, value > 0, "above 0") for key, value in above_zero.items()]
             + [(key, value, value >= 0, ">= 0") for key, value in non_negative.items()]
             + [
                 (key, list(pair), len(pair) == 2 and pair[0] <= pair[1], "[low, high] with low <= high")

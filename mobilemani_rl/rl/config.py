@@ -15,6 +15,7 @@ from mobilemani_rl.registry import (
     check_positive,
     check_torch_device,
     check_values,
+    is_seed,
 )
 from mobilemani_rl.schema import register_schema
 
@@ -165,9 +166,8 @@ class RLCfg:
                     ">= 0; 0: torch's default",
                 ),
                 ("rl.ppo.warm_start.episodes", warm.episodes, warm.episodes >= 0, ">= 0; 0: no warm start"),
-                # numpy seeds its generators with non-negative integers only
-                ("rl.ppo.seed", ppo.seed, ppo.seed >= 0, ">= 0"),
-                ("rl.ppo.warm_start.seed", warm.seed, warm.seed >= 0, ">= 0"),
+                ("rl.ppo.seed", ppo.seed, is_seed(ppo.seed), "an integer >= 0"),
+                ("rl.ppo.warm_start.seed", warm.seed, is_seed(warm.seed), "an integer >= 0"),
                 ("rl.ppo.warm_start.action_noise", warm.action_noise, warm.action_noise >= 0, ">= 0"),
                 ("rl.ppo.warm_start.learning_rate", warm.learning_rate, warm.learning_rate > 0, "above 0"),
                 ("rl.ppo.warm_start.noise_std", warm.noise_std, warm.noise_std > 0, "above 0"),
@@ -218,8 +218,8 @@ class EvalRlCfg:
         check_positive({"episodes": self.episodes})
         if self.video_episodes < 0:
             raise InputError(f"video_episodes={self.video_episodes} must be 0 (no videos) or more")
-        if self.seed < 0:  # numpy seeds its generators with non-negative integers only
-            raise InputError(f"seed={self.seed} must be 0 or more")
+        if not is_seed(self.seed):
+            raise InputError(f"seed={self.seed} must be an integer >= 0")
         return self
 
 
