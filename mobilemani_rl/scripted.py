@@ -158,6 +158,7 @@ class ScriptedPolicy:
         return rotation_onto(f.palm_quat, target)
 
     def __call__(self) -> np.ndarray:
+        self.env.require_reset()
         env, cfg, f = self.env, self.cfg, self.env.frames
         restarted = env.env_times == 0
         lost = (

@@ -8,6 +8,7 @@ from mobilemani_rl.envs.config import EnvCfg, TaskCfg
 from mobilemani_rl.envs.mobilemani_env import MobileManiEnv
 from mobilemani_rl.registry import InputError
 from mobilemani_rl.rollout import run_first_episodes
+from mobilemani_rl.scripted import ScriptedPolicy
 
 
 def test_checked_actions_clamp_zero_nan_and_count_them():
@@ -39,15 +40,17 @@ def test_env_refuses_a_wrong_width_and_rollouts_report_nan_actions():
 
 def test_python_api_misuse_names_the_argument_before_the_simulator_sees_it():
     """Each of these reached a library's message naming no argument: MuJoCo's constructor for 2.5 envs,
-    numpy's "expected non-negative integer" for a seed, an AttributeError for a step before any reset."""
+    numpy's "expected non-negative integer" for a seed, an AttributeError for a step or a scripted action
+    before any reset."""
     for bad_count in (2.5, "2"):
         with pytest.raises(InputError, match=f"whole numbers of at least 1: env.num_envs={bad_count!r}"):
             MobileManiEnv(EnvCfg(num_envs=bad_count))
     with pytest.raises(InputError, match=r"env.seed=1.5 \(an integer >= 0\)"):
         MobileManiEnv(EnvCfg(num_envs=1, seed=1.5))
     env = MobileManiEnv(EnvCfg(num_envs=2, task=TaskCfg(object="test/box", skill="open")))
-    with pytest.raises(RuntimeError, match=r"call reset\(\) before the first step\(\)"):
-        env.step(np.zeros((2, env.num_actions)))
+    for act_before_reset in (lambda: env.step(np.zeros((2, env.num_actions))), ScriptedPolicy(env)):
+        with pytest.raises(RuntimeError, match=r"call reset\(\) before the first step\(\) or action"):
+            act_before_reset()
     for bad_seed in (-1, 1.5, "a"):
         with pytest.raises(InputError, match=rf"reset\(seed={bad_seed!r}\): the seed must be an integer"):
             env.reset(seed=bad_seed)

@@ -149,12 +149,16 @@ class MobileManiEnv:
         self.success_flag[ids] = False
         self.last_action[ids] = 0.0
 
+    def require_reset(self) -> None:
+        """Before the first reset nothing has been measured: there is no state to act from."""
+        if self.frames is None:
+            raise RuntimeError("call reset() before the first step() or action")
+
     # ------------------------------------------------------------------ step
     def apply_action(self, actions: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """Check and clamp, run one DLS IK step, and write joint targets; returns the applied action and the
         number of NaN entries per env."""
-        if self.frames is None:  # nothing has been measured yet: there is no state to act from
-            raise RuntimeError("call reset() before the first step()")
+        self.require_reset()
         idx, v, acfg = self.index, self.view, self.cfg.actions
         actions, nan_count = checked_actions(actions, self.num_envs, self.num_actions)
         jacobian = chain_jacobian(
