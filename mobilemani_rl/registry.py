@@ -76,6 +76,9 @@ def is_count(value: object) -> bool:
     return isinstance(value, Integral) and value >= 1
 
 
+SEED_RULE = "an integer >= 0"  # the wording of every seed check, beside the test it names
+
+
 def is_seed(value: object) -> bool:
     """What numpy seeds a generator with: a whole number >= 0 (it refuses -1 and 1.5 naming neither key)."""
     return isinstance(value, Integral) and value >= 0

@@ -12,7 +12,7 @@ from typing import Any
 
 from omegaconf import DictConfig, OmegaConf
 
-from mobilemani_rl.registry import InputError, check_positive, check_values, is_seed
+from mobilemani_rl.registry import SEED_RULE, InputError, check_positive, check_values, is_seed
 
 
 @dataclass
@@ -164,7 +164,7 @@ class EnvParamsCfg:
             "env.reset.room_jitter_y": reset.room_jitter_y,
         }
         check_values(
-            [("env.seed", self.seed, is_seed(self.seed), "an integer >= 0")]
+            [("env.seed", self.seed, is_seed(self.seed), SEED_RULE)]
             + [(key, value, value > 0, "above 0") for key, value in above_zero.items()]
             + [(key, value, value >= 0, ">= 0") for key, value in non_negative.items()]
             + [

@@ -24,7 +24,7 @@ from mobilemani_rl.envs.resets import sample_episode_start
 from mobilemani_rl.envs.rewards import RewardContext, TaskDistances, grasp_flag, reward_terms, total_reward
 from mobilemani_rl.envs.scene import build_scene
 from mobilemani_rl.envs.terminations import hand_too_far_or_too_fast, time_out_or_held_success
-from mobilemani_rl.registry import InputError, is_seed
+from mobilemani_rl.registry import SEED_RULE, InputError, is_seed
 from mobilemani_rl.rotations import quat_from_euler, quat_mul
 
 # The palm-rotation reach term is on only for these (category, skill) pairs, as in the reference.
@@ -98,7 +98,7 @@ class MobileManiEnv:
     def reset(self, seed: int | None = None) -> np.ndarray:
         if seed is not None:
             if not is_seed(seed):
-                raise InputError(f"reset(seed={seed!r}): the seed must be an integer >= 0, or None")
+                raise InputError(f"reset(seed={seed!r}): the seed must be {SEED_RULE}, or None")
             self.rng = np.random.default_rng(seed)
         self.batch.reset(stage=mujoco.mjtStage.mjSTAGE_NONE)
         self.frames = self.task_distances = None

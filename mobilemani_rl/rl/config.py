@@ -9,6 +9,7 @@ from dataclasses import dataclass, field, fields
 
 from mobilemani_rl.envs.config import EnvCfg, EnvParamsCfg, TaskCfg, check_env_block
 from mobilemani_rl.registry import (
+    SEED_RULE,
     InputError,
     UnknownNameError,
     check_choice,
@@ -166,8 +167,8 @@ class RLCfg:
                     ">= 0; 0: torch's default",
                 ),
                 ("rl.ppo.warm_start.episodes", warm.episodes, warm.episodes >= 0, ">= 0; 0: no warm start"),
-                ("rl.ppo.seed", ppo.seed, is_seed(ppo.seed), "an integer >= 0"),
-                ("rl.ppo.warm_start.seed", warm.seed, is_seed(warm.seed), "an integer >= 0"),
+                ("rl.ppo.seed", ppo.seed, is_seed(ppo.seed), SEED_RULE),
+                ("rl.ppo.warm_start.seed", warm.seed, is_seed(warm.seed), SEED_RULE),
                 ("rl.ppo.warm_start.action_noise", warm.action_noise, warm.action_noise >= 0, ">= 0"),
                 ("rl.ppo.warm_start.learning_rate", warm.learning_rate, warm.learning_rate > 0, "above 0"),
                 ("rl.ppo.warm_start.noise_std", warm.noise_std, warm.noise_std > 0, "above 0"),
@@ -219,7 +220,7 @@ class EvalRlCfg:
         if self.video_episodes < 0:
             raise InputError(f"video_episodes={self.video_episodes} must be 0 (no videos) or more")
         if not is_seed(self.seed):
-            raise InputError(f"seed={self.seed} must be an integer >= 0")
+            raise InputError(f"seed={self.seed} must be {SEED_RULE}")
         return self
 
 
