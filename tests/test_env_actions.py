@@ -4,10 +4,12 @@ import re
 
 import numpy as np
 import pytest
+import torch
 
 from mobilemani_rl.envs.actions import checked_actions
 from mobilemani_rl.envs.config import EnvCfg, TaskCfg
 from mobilemani_rl.envs.mobilemani_env import MobileManiEnv
+from mobilemani_rl.envs.vecenv import RslRlVecEnv
 from mobilemani_rl.registry import InputError
 from mobilemani_rl.rollout import run_first_episodes
 from mobilemani_rl.scripted import ScriptedPolicy
@@ -59,3 +61,13 @@ def test_python_api_misuse_names_the_argument_before_the_simulator_sees_it():
             env.reset(seed=bad_seed)
     env.reset(seed=np.int64(3))  # numpy's own integers are seeds too
     assert env.step(np.zeros((2, env.num_actions))).obs.shape == (2, env.num_obs)
+    with pytest.raises(
+        InputError, match=r"EnvCfg\(task=...\) takes a TaskCfg\(robot, object, skill, scene\), not a dict"
+    ):
+        MobileManiEnv(EnvCfg(num_envs=1, task={"robot": "g1"}))
+    # the rsl-rl view takes rsl-rl's tensors and the numpy batches of the Gymnasium one alike
+    rsl_env = RslRlVecEnv(env)
+    for actions in (torch.zeros((2, env.num_actions)), np.zeros((2, env.num_actions))):
+        assert rsl_env.step(actions)[0]["policy"].shape == (2, env.num_obs)
+    with pytest.raises(ValueError, match=r"actions must have shape \(num_envs, action_dim\)"):
+        rsl_env.step(np.zeros((3, env.num_actions)))

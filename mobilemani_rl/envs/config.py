@@ -178,6 +178,15 @@ class EnvParamsCfg:
 class EnvCfg(EnvParamsCfg):
     task: TaskCfg = field(default_factory=TaskCfg)
 
+    def check(self) -> None:
+        super().check()
+        # a dict here would first fail as "'dict' object has no attribute 'robot'", naming no argument
+        if not isinstance(self.task, TaskCfg):
+            raise InputError(
+                "EnvCfg(task=...) takes a TaskCfg(robot, object, skill, scene), "
+                f"not a {type(self.task).__name__}"
+            )
+
 
 def check_env_block(env: EnvParamsCfg, set_by: dict[str, str]) -> None:
     """An entry point's env block: its values are in range, and the keys the entry point sets itself (e.g.

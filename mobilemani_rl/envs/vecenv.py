@@ -49,8 +49,11 @@ class RslRlVecEnv(VecEnv):
     def get_observations(self) -> TensorDict:
         return self._observations(self.env.obs)
 
-    def step(self, actions: torch.Tensor) -> tuple[TensorDict, torch.Tensor, torch.Tensor, dict]:
-        result = self.env.step(actions.detach().cpu().numpy())
+    def step(self, actions: torch.Tensor | np.ndarray) -> tuple[TensorDict, torch.Tensor, torch.Tensor, dict]:
+        # rsl-rl hands tensors; a numpy batch (GymVectorEnv's kind) goes to the env's own shape check as it is
+        if isinstance(actions, torch.Tensor):
+            actions = actions.detach().cpu().numpy()
+        result = self.env.step(actions)
         dones = torch.from_numpy(result.terminated | result.truncated).to(self.device)
         extras = {
             "time_outs": torch.from_numpy(result.truncated).to(self.device),
