@@ -37,9 +37,12 @@ def _exit_when_orphaned(parent: int) -> None:
     os._exit(1)
 
 
-def _start_worker(task: Callable, make_state: Callable[[], Any] | None, threads: int) -> None:
+def _start_worker(task: Callable, make_state: Callable[[], Any] | None, threads: int, parent: int) -> None:
     signal.signal(signal.SIGINT, signal.SIG_IGN)  # Ctrl-C signals the whole process group
-    threading.Thread(target=_exit_when_orphaned, args=(os.getppid(),), daemon=True).start()
+    # The caller's pid comes from the caller: a worker still importing when the caller was killed would read
+    # its new parent from os.getppid(), never see itself orphaned, and wait on the dead caller's queue
+    # forever.
+    threading.Thread(target=_exit_when_orphaned, args=(parent,), daemon=True).start()
     torch.set_num_threads(threads)
     _worker.update(task=task, state=make_state() if make_state else None)
 
@@ -68,7 +71,7 @@ def run_in_pool[Item, Result](
         workers,
         get_context("spawn"),
         initializer=_start_worker,
-        initargs=(task, make_state, threads_per_worker(workers)),
+        initargs=(task, make_state, threads_per_worker(workers), os.getpid()),
     )
     futures: dict[Future, Item] = {pool.submit(_run_in_worker, item): item for item in items}
     try:

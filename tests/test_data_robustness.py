@@ -109,6 +109,38 @@ def test_workers_of_a_stopped_collection_stop_and_the_rerun_fills_in_the_rest(tm
     assert not list(raw.rglob(f"*{PARTIAL_SUFFIX}"))
 
 
+def child_pids(pid: int) -> list[int]:
+    path = Path(f"/proc/{pid}/task/{pid}/children")
+    return [int(child) for child in path.read_text().split()] if path.exists() else []
+
+
+def is_spawned_worker(pid: int) -> bool:
+    try:
+        return "spawn_main" in Path(f"/proc/{pid}/cmdline").read_text()
+    except FileNotFoundError:
+        return False
+
+
+def test_a_worker_still_starting_when_its_caller_is_killed_exits_too():
+    """Killed while its workers still import (spawn), the caller leaves no worker behind: one that read its
+    parent from os.getppid() after the kill waited on the dead caller's queue forever."""
+    pool_run = "import operator; from mobilemani_rl.process_pool import run_in_pool; "
+    pool_run += "list(run_in_pool(operator.is_, [1, 2], workers=2))"
+    caller = subprocess.Popen([sys.executable, "-c", pool_run], cwd=ROOT)
+    children: list[int] = []
+    deadline = time.time() + 60
+    while not any(is_spawned_worker(pid) for pid in children):
+        assert time.time() < deadline, "no worker started"
+        time.sleep(0.01)
+        children = child_pids(caller.pid)
+    caller.kill()
+    caller.wait(timeout=60)
+    deadline = time.time() + 10
+    while any(running(pid) for pid in children) and time.time() < deadline:
+        time.sleep(0.1)
+    assert not any(running(pid) for pid in children)
+
+
 def test_two_workers_collect_the_episodes_of_one_process(tmp_path, capsys):
     """Combinations spread over two worker processes give one process's shards, array by array."""
     shards = {}
