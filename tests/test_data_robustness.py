@@ -81,6 +81,19 @@ def running(pid: int) -> bool:
         return False
 
 
+def child_pids(pid: int) -> list[int]:
+    path = Path(f"/proc/{pid}/task/{pid}/children")
+    return [int(child) for child in path.read_text().split()] if path.exists() else []
+
+
+def command_line(pid: int) -> str:
+    """The process's command line ('' once it is gone), to name a process left running."""
+    try:
+        return Path(f"/proc/{pid}/cmdline").read_text().replace("\0", " ")
+    except FileNotFoundError:
+        return ""
+
+
 @pytest.mark.slow
 @pytest.mark.parametrize("stop", ["kill -9", "Ctrl-C"])
 def test_workers_of_a_stopped_collection_stop_and_the_rerun_fills_in_the_rest(tmp_path, stop):
@@ -100,25 +113,13 @@ def test_workers_of_a_stopped_collection_stop_and_the_rerun_fills_in_the_rest(tm
     deadline = time.time() + 10
     while any(running(pid) for pid in children) and time.time() < deadline:
         time.sleep(0.1)
-    assert not any(running(pid) for pid in children)
+    assert not [command_line(pid) for pid in children if running(pid)]
 
     collect(tiny_cfg(tmp_path, *SUBSET))
     paths = shard_paths(raw, "g1")
     assert len(paths) == 4
     assert all(len(read_shard(p).episodes) == 2 for p in paths)
     assert not list(raw.rglob(f"*{PARTIAL_SUFFIX}"))
-
-
-def child_pids(pid: int) -> list[int]:
-    path = Path(f"/proc/{pid}/task/{pid}/children")
-    return [int(child) for child in path.read_text().split()] if path.exists() else []
-
-
-def is_spawned_worker(pid: int) -> bool:
-    try:
-        return "spawn_main" in Path(f"/proc/{pid}/cmdline").read_text()
-    except FileNotFoundError:
-        return False
 
 
 def test_a_worker_still_starting_when_its_caller_is_killed_exits_too():
@@ -129,7 +130,7 @@ def test_a_worker_still_starting_when_its_caller_is_killed_exits_too():
     caller = subprocess.Popen([sys.executable, "-c", pool_run], cwd=ROOT)
     children: list[int] = []
     deadline = time.time() + 60
-    while not any(is_spawned_worker(pid) for pid in children):
+    while not any("spawn_main" in command_line(pid) for pid in children):
         assert time.time() < deadline, "no worker started"
         time.sleep(0.01)
         children = child_pids(caller.pid)
@@ -138,7 +139,7 @@ def test_a_worker_still_starting_when_its_caller_is_killed_exits_too():
     deadline = time.time() + 10
     while any(running(pid) for pid in children) and time.time() < deadline:
         time.sleep(0.1)
-    assert not any(running(pid) for pid in children)
+    assert not [command_line(pid) for pid in children if running(pid)]
 
 
 def test_two_workers_collect_the_episodes_of_one_process(tmp_path, capsys):
