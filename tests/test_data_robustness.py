@@ -103,7 +103,7 @@ def test_workers_of_a_stopped_collection_stop_and_the_rerun_fills_in_the_rest(tm
     proc = start_collection([*overrides, "collect.workers=2"])
     raw = tmp_path / "raw"
     wait_for_a_shard(proc, raw)
-    children = [int(pid) for pid in Path(f"/proc/{proc.pid}/task/{proc.pid}/children").read_text().split()]
+    children = child_pids(proc.pid)
     if stop == "kill -9":
         proc.kill()
     else:
