@@ -94,6 +94,14 @@ def command_line(pid: int) -> str:
         return ""
 
 
+def still_running_after(pids: list[int], seconds: float) -> list[str]:
+    """The command lines of those of `pids` still running once `seconds` have passed (or all have ended)."""
+    deadline = time.time() + seconds
+    while any(running(pid) for pid in pids) and time.time() < deadline:
+        time.sleep(0.1)
+    return [command_line(pid) for pid in pids if running(pid)]
+
+
 @pytest.mark.slow
 @pytest.mark.parametrize("stop", ["kill -9", "Ctrl-C"])
 def test_workers_of_a_stopped_collection_stop_and_the_rerun_fills_in_the_rest(tmp_path, stop):
@@ -110,10 +118,7 @@ def test_workers_of_a_stopped_collection_stop_and_the_rerun_fills_in_the_rest(tm
         os.killpg(proc.pid, signal.SIGINT)
     proc.wait(timeout=60)
     assert len(children) >= 2, "two workers (and multiprocessing's resource tracker) should have started"
-    deadline = time.time() + 10
-    while any(running(pid) for pid in children) and time.time() < deadline:
-        time.sleep(0.1)
-    assert not [command_line(pid) for pid in children if running(pid)]
+    assert not still_running_after(children, seconds=10)
 
     collect(tiny_cfg(tmp_path, *SUBSET))
     paths = shard_paths(raw, "g1")
@@ -136,10 +141,7 @@ def test_a_worker_still_starting_when_its_caller_is_killed_exits_too():
         children = child_pids(caller.pid)
     caller.kill()
     caller.wait(timeout=60)
-    deadline = time.time() + 10
-    while any(running(pid) for pid in children) and time.time() < deadline:
-        time.sleep(0.1)
-    assert not [command_line(pid) for pid in children if running(pid)]
+    assert not still_running_after(children, seconds=10)
 
 
 def test_two_workers_collect_the_episodes_of_one_process(tmp_path, capsys):
