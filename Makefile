@@ -184,26 +184,23 @@ lerobot: setup
 	$(MAKE) eval ROBOT=$(ROBOT) POLICY=lerobot NAME=lerobot_$(LEROBOT_POLICY) \
 		CHECKPOINT=$$(cd $(LEROBOT_LAST) && pwd -P)/pretrained_model
 
-# The whole chain at small scale, 21.5-29.2 min after `make setup` on our 2-core machines
-# (docs/results/demo/rgb_batch16.md, docs/results/readme_commands.md; PyTorch runs at half that speed on a slower
-# one, short_schedules.md):
-# a PPO teacher for g1 opening test/box, 160 episodes from it in the 16 train rooms (executed with action noise,
-# DART; each room repainted per episode, 64 px, H.264), the CPU recipe's VLA on the two RGB cameras
-# (vla/model=cpu vla/train=cpu, DEMO_VLA_STEPS steps of 16 samples: 9000 steps in 14-19 min), closed-loop
-# evaluation of both over 20 episodes in the four unseen test rooms, tables and a report (no rollout video: it
-# doubles the evaluation on 2 cores; add EVAL_ARGS video_episodes=1 to `make eval` for one). Why these settings:
-# the recipe's 95% needs repainted rooms and ~9000 steps (docs/results/vla_cpu_recipe.md), and two RGB streams
-# at batch 16 run 9000 steps in the time that four streams at batch 32 run 3000 (40% in
-# docs/results/demo/scale_and_inputs.md).
-# The VLA's success depends on which teacher PPO draws (18-67% over 60 episodes for five teachers,
-# docs/results/demo/teacher_draws.md).
+# The whole chain at small scale (times and results: docs/results/demo.md):
+# a PPO teacher for g1 opening test/box (seed DEMO_PPO_SEED), 160 episodes from it in the 16 train rooms (executed
+# with action noise, DART; labels smoothed over export.ppo_label_window steps; each room repainted per episode,
+# 64 px, H.264), the CPU recipe's VLA on the two RGB cameras (vla/model=cpu vla/train=cpu, DEMO_VLA_STEPS steps of
+# 16 samples), closed-loop evaluation in the four unseen test rooms (teacher 20 episodes; VLA 20 with the
+# protocol's seeds plus 40 with seed=1), tables and a report with the VLA's 60-episode rate and its interval
+# (no rollout video: it doubles the evaluation on 2 cores; add EVAL_ARGS video_episodes=1 to `make eval`).
 # Every stage resumes or skips finished work, so a rerun after an interruption continues.
 DEMO ?= runs/demo
+DEMO_PPO_SEED ?= 42
 DEMO_PPO_ITERATIONS ?= 100
 DEMO_VLA_STEPS ?= 9000
 DEMO_ROOM_REPAINT ?= 0.6
+DEMO_CHECKPOINT = $(DEMO)/vla/checkpoints/step_$(shell printf %08d $(DEMO_VLA_STEPS))
 demo: setup
-	$(MAKE) rl ROBOT=g1 OBJECT=test/box SKILL=open ITERATIONS=$(DEMO_PPO_ITERATIONS) RL_ARGS="run_dir=$(DEMO)/rl/g1/test/box/open"
+	$(MAKE) rl ROBOT=g1 OBJECT=test/box SKILL=open ITERATIONS=$(DEMO_PPO_ITERATIONS) \
+		RL_ARGS="run_dir=$(DEMO)/rl/g1/test/box/open rl.ppo.seed=$(DEMO_PPO_SEED)"
 	$(MAKE) data ROBOT=g1 SUBSET=demo TEACHER=ppo DATA_ARGS="data_dir=$(DEMO)/data teacher.runs_dir=$(DEMO)/rl collect.action_noise=0.3 \
 		export.width=64 export.height=64 export.vcodec=h264 export.crf=20 export.modalities=[rgb,depth] \
 		export.room_repaint=$(DEMO_ROOM_REPAINT)"
@@ -213,8 +210,9 @@ demo: setup
 		train.save_every=$(DEMO_VLA_STEPS) train.diagnose_every=$(DEMO_VLA_STEPS) train.logger=none"
 	$(MAKE) eval ROBOT=g1 POLICY=teacher PROTOCOL=demo NAME=teacher \
 		EVAL_ARGS="output_dir=$(DEMO)/eval policy.runs_dir=$(DEMO)/rl"
-	$(MAKE) eval ROBOT=g1 POLICY=vla PROTOCOL=demo NAME=vla CHECKPOINT=$(DEMO)/vla/checkpoints/step_$(shell printf %08d $(DEMO_VLA_STEPS)) \
-		EVAL_ARGS="output_dir=$(DEMO)/eval"
+	$(MAKE) eval ROBOT=g1 POLICY=vla PROTOCOL=demo NAME=vla CHECKPOINT=$(DEMO_CHECKPOINT) EVAL_ARGS="output_dir=$(DEMO)/eval"
+	$(MAKE) eval ROBOT=g1 POLICY=vla PROTOCOL=demo NAME=vla_seed1 CHECKPOINT=$(DEMO_CHECKPOINT) \
+		EVAL_ARGS="output_dir=$(DEMO)/eval seed=1 subset.episodes=10"
 	$(MAKE) tables RL_RUNS=$(DEMO)/rl EVAL_RESULTS=$(DEMO)/eval TABLES=$(DEMO)/tables MAIN_RUN=vla
 	$(PY) -m scripts.demo_report $(DEMO)
 

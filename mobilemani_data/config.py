@@ -17,7 +17,14 @@ import av
 from mobilemani_data import schema
 from mobilemani_rl.base_frame import Convention
 from mobilemani_rl.envs.config import EnvCfg, EnvParamsCfg, RobotChoiceCfg, check_env_block
-from mobilemani_rl.registry import InputError, check_choice, check_positive, check_values, first_sentence
+from mobilemani_rl.registry import (
+    InputError,
+    check_choice,
+    check_positive,
+    check_values,
+    first_sentence,
+    is_count,
+)
 from mobilemani_rl.schema import register_schema
 from mobilemani_rl.tasks import SubsetCfg
 
@@ -70,6 +77,10 @@ class ExportCfg:
     # robot and object untouched: mobilemani_rl/render/appearance.py), so a policy sees more than the train
     # rooms' colours. 0: the rooms as built (the paper's data); `make recipe` and `make demo` use 0.6.
     room_repaint: float = 0.0
+    # PPO teachers' action labels averaged over this many control steps (odd; 1: as recorded): their motion
+    # stays, their fast reactions to inputs a VLA never observes go (mobilemani_data.convert.smoothed_labels).
+    # The scripted teacher's labels are smooth already and stay raw.
+    ppo_label_window: int = 9
     overwrite: bool = False
 
     def check(self) -> None:
@@ -87,6 +98,12 @@ class ExportCfg:
         if not 0.0 <= self.room_repaint <= 1.0:
             raise InputError(
                 f"export.room_repaint={self.room_repaint} must lie in [0, 1] (0: rooms as built)"
+            )
+        window = self.ppo_label_window
+        if not (is_count(window) and window % 2 == 1):
+            raise InputError(
+                f"export.ppo_label_window={window!r} must be an odd whole number of control steps "
+                "(1: the labels as recorded)"
             )
         try:
             av.Codec(self.vcodec, "w")

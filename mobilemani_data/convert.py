@@ -35,10 +35,25 @@ def episode_frame_state(episode: Episode, num_hand_joints: int) -> FrameState:
     )
 
 
-def episode_vectors(episode: Episode, num_hand_joints: int, convention: Convention) -> dict[str, np.ndarray]:
-    """Every non-image feature for frames 1 … T-1, float32."""
+def smoothed_labels(actions: np.ndarray, window: int) -> np.ndarray:
+    """(T, A) actions averaged over a centred window of `window` control steps (odd; 1: unchanged), the ends
+    padded with their edge values. A PPO teacher's action holds fast reactions to what a VLA never observes
+    (its clock, joint velocities, the DART noise it just received: docs/results/teacher_labels.md); over a
+    few steps they average out, while the motion, whose wrist deltas add up, keeps its course."""
+    if window <= 1:
+        return actions
+    half = window // 2
+    padded = np.pad(actions, ((half, half), (0, 0)), mode="edge")
+    return np.lib.stride_tricks.sliding_window_view(padded, window, axis=0).mean(axis=-1)
+
+
+def episode_vectors(
+    episode: Episode, num_hand_joints: int, convention: Convention, label_window: int = 1
+) -> dict[str, np.ndarray]:
+    """Every non-image feature for frames 1 … T-1, float32; the action labels smoothed over
+    `label_window` steps (`smoothed_labels`)."""
     frames = episode_frame_state(episode, num_hand_joints)
-    action = episode.arrays["action"][FIRST_FRAME:]
+    action = smoothed_labels(episode.arrays["action"], label_window)[FIRST_FRAME:]
     vectors = frame_vectors(frames)
     vectors[schema.WORLD_ACTION] = action.astype(np.float32)
     vectors[schema.ACTION] = action_to_base(action, frames.base_quat, convention).astype(np.float32)

@@ -32,6 +32,7 @@ from mobilemani_data.convert import FIRST_FRAME, camera_images, episode_vectors
 from mobilemani_data.frame import robot_cameras
 from mobilemani_data.replay import Replayer
 from mobilemani_data.shards import Shard, ShardError, read_shard, shard_paths
+from mobilemani_data.teachers import kind_of
 from mobilemani_rl.assets.robots import RobotDescription, get_robot
 from mobilemani_rl.cli import entry_point
 from mobilemani_rl.envs.config import with_env_task
@@ -105,13 +106,14 @@ def add_shard(
         ),
     )
     repainter = RoomRepainter(replayer.model) if cfg.room_repaint > 0 else None
+    label_window = cfg.ppo_label_window if kind_of(shard.header["teacher"]) == "ppo" else 1
     lines = []
     try:
         for k, episode in enumerate(shard.episodes):
             if repainter is not None:  # seeded by shard and episode: a rerun renders the same images
                 seed = zlib.crc32(f"{shard.path.relative_to(raw_dir)}/{k}".encode())
                 repainter.repaint(np.random.default_rng(seed), cfg.room_repaint)
-            vectors = episode_vectors(episode, len(robot.hand_joints), cfg.action_convention)
+            vectors = episode_vectors(episode, len(robot.hand_joints), cfg.action_convention, label_window)
             for i, state in enumerate(episode.arrays["state"][FIRST_FRAME:]):
                 start = time.perf_counter()
                 frame = camera_images(renderer, replayer, state, cameras, keys)
@@ -156,6 +158,7 @@ def export_source(cfg: ExportCfg, raw_dir: Path, paths: list[Path]) -> dict:
             "preset",
             "action_convention",
             "room_repaint",
+            "ppo_label_window",
         )
     }
     shards = {str(p.relative_to(raw_dir)): [(st := p.stat()).st_size, st.st_mtime_ns] for p in paths}

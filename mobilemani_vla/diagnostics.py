@@ -1,8 +1,10 @@
 """Held-out diagnostics that tell whether the VLA uses its images and how well it predicts actions.
 
 - Noise-prediction error with paired noise and timesteps: with the real cognition feature, with the learned
-  null vector in its place (the classifier-free-guidance "unconditional" input), and without the state
-  feature. If the first is not clearly below the second, the action head ignores what the backbone sees.
+  null vector in its place (the classifier-free-guidance "unconditional" input), without the state feature,
+  and with the instruction left empty or replaced by a wrong one. If the first is not clearly below the
+  null vector's, the action head ignores what the backbone sees; if it is not below the empty and wrong
+  instructions', the model does not read the instruction.
 - Open-loop action error: DDIM-sampled chunks (clipped to [-1, 1] as when executed) against the recorded ones
   (normalised units, whole chunk and first step), for each classifier-free-guidance scale asked for.
 """
@@ -13,15 +15,37 @@ import numpy as np
 import torch
 import torch.nn.functional as F
 
+from mobilemani_rl.assets.objects import ALL_SKILLS
 from mobilemani_vla.model import MobileManiVLA
+from mobilemani_vla.processor import VLAProcessor
 
 SEED = 0  # fixed noise and timesteps, so successive diagnostics are comparable
+INSTRUCTION_VARIANTS = ("null_instruction", "wrong_instruction")
 
 
-def heldout_batch(dataset, frames: int, collate) -> dict[str, torch.Tensor]:
-    """A fixed, evenly spaced choice of `frames` held-out frames, collated."""
+def wrong_instructions(tasks: list[str]) -> list[str]:
+    """Each instruction replaced by another one of the batch; with a single one (a single-task dataset), its
+    skill word by the next skill's ("open box" -> "close box")."""
+    distinct = sorted(set(tasks))
+    if len(distinct) > 1:
+        return [distinct[(distinct.index(t) + 1) % len(distinct)] for t in tasks]
+    skill, _, rest = tasks[0].partition(" ")
+    other = ALL_SKILLS[(ALL_SKILLS.index(skill) + 1) % len(ALL_SKILLS)] if skill in ALL_SKILLS else "open"
+    return [f"{other} {rest}"] * len(tasks)
+
+
+def heldout_batch(dataset, frames: int, processor: VLAProcessor) -> dict[str, torch.Tensor]:
+    """A fixed, evenly spaced choice of `frames` held-out frames, collated, with the prompt tokens of the
+    instruction variants beside the real ones (`<variant>/input_ids`, `<variant>/attention_mask`)."""
     picks = np.unique(np.linspace(0, len(dataset) - 1, num=min(frames, len(dataset))).round().astype(int))
-    return collate([dataset[int(i)] for i in picks])
+    items = [dataset[int(i)] for i in picks]
+    batch = processor(items)
+    tasks = [item["task"] for item in items]
+    for variant, texts in zip(
+        INSTRUCTION_VARIANTS, ([""] * len(tasks), wrong_instructions(tasks)), strict=True
+    ):
+        batch.update({f"{variant}/{k}": v for k, v in processor.tokenize(texts).items()})
+    return batch
 
 
 @torch.no_grad()
@@ -39,9 +63,9 @@ def diagnose(
     noise = torch.randn(actions.shape, generator=generator, device=actions.device)
     noisy = head.scheduler.add_noise(actions, noise, t)
 
-    def noise_error(use_state: bool, null: bool) -> float:
+    def noise_error(use_state: bool, null: bool, feature: torch.Tensor = cognition) -> float:
         drop = torch.ones(actions.shape[0], dtype=torch.bool, device=actions.device) if null else None
-        pred = head.dit(noisy, t, cognition, state if use_state else None, drop)
+        pred = head.dit(noisy, t, feature, state if use_state else None, drop)
         return F.mse_loss(pred.float(), noise).item()
 
     out = {"noise_mse/image": noise_error(True, False)}
@@ -49,6 +73,10 @@ def diagnose(
         out["noise_mse/null_image"] = noise_error(True, True)
     if state is not None:
         out["noise_mse/no_state"] = noise_error(False, False)
+    for variant in INSTRUCTION_VARIANTS:
+        if f"{variant}/input_ids" in batch:
+            prompt = {k: batch[f"{variant}/{k}"] for k in ("input_ids", "attention_mask")}
+            out[f"noise_mse/{variant}"] = noise_error(True, False, model.condition({**batch, **prompt})[0])
     for scale in cfg_scales:
         sampled = head.sample(
             cognition,

@@ -95,16 +95,31 @@ class ResultsFile:
         return len(new)
 
 
+def wilson_interval(successes: int, episodes: int, z: float = 1.96) -> tuple[float, float]:
+    """The Wilson score interval of a success rate (95% by default): unlike p ± z·se it stays inside [0, 1]
+    and does not collapse to a point at 0 or all successes."""
+    if episodes == 0:
+        return 0.0, 1.0
+    p, n = successes / episodes, episodes
+    centre = (p + z * z / (2 * n)) / (1 + z * z / n)
+    half = z * np.sqrt(p * (1 - p) / n + z * z / (4 * n * n)) / (1 + z * z / n)
+    return float(max(0.0, centre - half)), float(min(1.0, centre + half))
+
+
 def _over_objects(records: list[dict]) -> dict:
     per_object: dict[str, list[bool]] = defaultdict(list)
     for r in records:
         per_object[r["object_id"]].append(bool(r["success"]))
     rates = np.array([np.mean(v) for v in per_object.values()])
+    successes = sum(sum(v) for v in per_object.values())
     return {
         "success_rate": float(rates.mean()),
         "std_over_objects": float(rates.std()),
         "objects": len(rates),
         "episodes": len(records),
+        "successes": int(successes),
+        # over the pooled episodes (the success rate itself averages objects, equal when their counts are)
+        "ci95": list(wilson_interval(int(successes), len(records))),
     }
 
 

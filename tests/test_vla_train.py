@@ -196,9 +196,8 @@ def test_checkpoint_resume_and_policy(dataset_root, tmp_path):
     assert len(resumed.losses) == 2  # steps 4 and 5 only
     diagnostics = [json.loads(line) for line in (tmp_path / "diagnostics.jsonl").read_text().splitlines()]
     assert [d["step"] for d in diagnostics] == [2, 4]  # held-out diagnostics, none repeated by the resume
-    assert {"noise_mse/image", "noise_mse/null_image", "noise_mse/no_state", "open_loop_mse/cfg_1.5"} <= set(
-        diagnostics[-1]
-    )
+    keys = {"image", "null_image", "no_state", "null_instruction", "wrong_instruction"}
+    assert {f"noise_mse/{k}" for k in keys} | {"open_loop_mse/cfg_1.5"} <= set(diagnostics[-1])
     assert json.loads((resumed.checkpoint / "trainer_state.json").read_text()) == {"step": 5}
 
     fewer = f"train.steps=4, but {resumed.checkpoint} is further on; only train.steps may grow"
