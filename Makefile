@@ -12,15 +12,39 @@ PYTHON312 ?= $(shell for c in python3.12 $$(pyenv root 2>/dev/null)/versions/3.1
 
 ROBOT ?= g1
 
-.PHONY: setup test test-slow lint bench bench-sim bench-ppo clean-venv rl teachers tables vla bench-vla demo eval
+.PHONY: help setup test test-slow lint bench bench-sim bench-ppo clean-venv rl teachers tables vla bench-vla demo eval
 
 setup: $(VENV)/.installed
+
+# One line per target (`make` alone still runs setup).
+help:
+	@echo "make setup        build .venv (Python 3.12) from pyproject.toml; skipped when up to date"
+	@echo "make demo         the whole chain at small scale: teacher, data, VLA, evaluation, report (docs/results/demo.md)"
+	@echo "make test         the default test suite (pytest, tiny configs)"
+	@echo "make test-slow    the slower tests (kill -9 reruns, multi-process training, trained teachers)"
+	@echo "make lint         ruff check and ruff format --check"
+	@echo "make rl           a PPO teacher for one task, then its evaluation (ROBOT OBJECT SKILL PPO ITERATIONS RL_ARGS)"
+	@echo "make teachers     the paper's teacher table, one teacher per category and skill (ROBOT TEACHER_ARGS)"
+	@echo "make data         collect, export, validate and describe a LeRobot dataset (ROBOT SUBSET TEACHER DATA_ARGS)"
+	@echo "make vla          train MobileManiVLA (ROBOT EXPERIMENT VLA_ARGS)"
+	@echo "make recipe       the CPU VLA recipe end to end: data, VLA, evaluation in unseen rooms (RECIPE_SKILL)"
+	@echo "make lerobot      a stock LeRobot policy on a dataset, then the same evaluation (LEROBOT_POLICY LEROBOT_DATA)"
+	@echo "make eval         the paper's closed-loop evaluation (ROBOT CHECKPOINT POLICY PROTOCOL SPLIT WORKERS EVAL_ARGS)"
+	@echo "make tables       the paper's tables and plots from the results found (RL_RUNS EVAL_RESULTS)"
+	@echo "make bench        every benchmark in one JSON (results/bench.json) and one table"
+	@echo "make bench-sim    the batched simulator against raw MuJoCo"
+	@echo "make bench-ppo    PPO training throughput"
+	@echo "make bench-data   dataset export throughput: frames/s, rendering share, size per episode (ROBOT)"
+	@echo "make bench-vla    VLA training and inference throughput"
+	@echo "make clean-venv   remove .venv"
+	@echo "make help         this list"
+	@echo "Usage and options: docs/usage.md"
 
 # Rebuilt only when the dependency list changes.
 $(VENV)/.installed: pyproject.toml
 	@test -n "$(PYTHON312)" || { echo "error: Python 3.12 not found on PATH or under pyenv"; exit 1; }
 	@test -x $(PY) || $(PYTHON312) -m venv $(VENV)
-	@echo "installing into $(VENV): ~2.3 GB of downloads, 6 GB installed, several minutes (pip's progress below)"
+	@echo "installing into $(VENV): PyTorch with its CUDA libraries and the rest, several GB (pip's progress below)"
 	$(PY) -m pip install --quiet --upgrade pip
 	$(PY) -m pip install --progress-bar on -e ".[dev]"
 	touch $@
@@ -47,8 +71,8 @@ bench-ppo: setup
 
 # PPO teacher (Hydra root conf/rl.yaml), then 256 evaluation episodes:
 #   make rl ROBOT=g1 [OBJECT=test/box SKILL=open PPO=cpu|paper ITERATIONS=300]; OBJECT may be a category (multi-object
-#   policy). ITERATIONS empty: the preset's (cpu: a 2-3.5 min warm start + 3000 iterations = 12.3 M samples, 40-60 min
-#   on 2 cores, what test/can pick needs; test/box open is solved with ITERATIONS=300, 3-10 min).
+#   policy). ITERATIONS empty: the preset's (cpu: a warm start from scripted episodes, then 3000 iterations = 12.3 M
+#   samples, what test/can pick needs); test/box open needs ITERATIONS=300. Times: docs/results/throughput.md.
 OBJECT ?= test/box
 SKILL ?= open
 PPO ?= cpu
@@ -65,8 +89,7 @@ rl: setup
 TEACHERS ?= runs/teachers
 TEACHERS_OUT ?= docs/results/teachers
 TEACHER_ITERATIONS ?= 300
-# holistic pick is still learning after 300 (g1 31.4% and 4.2% on test objects in two sweeps, xhand 10.2%);
-# 3000 gave 70.8% (g1; the paper 66.4%) and 67.2% (xhand; 72.6%): docs/results/teachers/g1_sweep.md, xhand_sweep.md
+# holistic pick is still learning when 300 iterations end, so pick rows get their own count (docs/results/teachers.md)
 TEACHER_PICK_ITERATIONS ?= 3000
 TEACHER_ARGS ?=
 # warm start from 128 scripted episodes per object: the 8 train objects of a row give a single-object run's 1024
@@ -120,13 +143,13 @@ data: setup
 bench-data: setup
 	$(PY) -m mobilemani_data.bench robot=$(ROBOT)
 
-# The CPU VLA recipe (docs/results/vla_cpu_recipe.md): 160 scripted-teacher episodes of g1 on test/box in the 16
-# train rooms (executed with action noise, DART), each episode's room repainted, rendered at the model's 64 px, the
-# cpu model trained 38-63 min on 2 cores, then 40 closed-loop episodes in the 4 unseen test rooms.
+# The CPU VLA recipe (docs/usage.md, results in docs/results/vla.md): 160 scripted-teacher episodes of g1 on test/box
+# in the 16 train rooms (executed with action noise, DART), each episode's room repainted, rendered at the model's
+# 64 px, the cpu model trained RECIPE_STEPS steps, then 40 closed-loop episodes in the 4 unseen test rooms.
 #   make recipe [RECIPE_SKILL=open|close RECIPE_STEPS=9000]
 RECIPE ?= runs/recipe
 # Every exported episode's room repainted by up to this much (export.room_repaint, mobilemani_rl/render/appearance.py):
-# the recipe trains in the 16 train rooms and is evaluated in 4 unseen ones (run 5: 95% with it, run 4: 37.5%).
+# the recipe trains in the 16 train rooms and is evaluated in 4 unseen ones, which repainting makes less unlike them.
 ROOM_REPAINT ?= 0.6
 RECIPE_SKILL ?= open
 RECIPE_STEPS ?= 9000
@@ -146,8 +169,8 @@ recipe: setup
 # MobileManiVLA (results land beside it, so `make tables` shows both). Pretrained backbones stay off (no downloads):
 #   make lerobot [LEROBOT_POLICY=act|diffusion|smolvla LEROBOT_DATA=runs/recipe/open/data/lerobot LEROBOT_STEPS=2000
 #                 PROTOCOL=recipe EVAL_ARGS="output_dir=runs/recipe/eval"]
-# The default LEROBOT_DATA is `make data`'s dataset, six streams at 520 px: more than a 24 GB CPU machine holds for
-# ACT at batch 16 (killed, session 31). On a CPU give it a dataset exported at 64-128 px (README, stock LeRobot).
+# The default LEROBOT_DATA is `make data`'s dataset, six streams at 520 px: too large for ACT at batch 16 in a CPU
+# machine's memory (docs/results/baselines.md). On a CPU give it a dataset exported at 64-128 px (docs/usage.md).
 LEROBOT_POLICY ?= act
 LEROBOT_DATA ?= data/$(ROBOT)/lerobot
 LEROBOT_STEPS ?= 2000
@@ -155,14 +178,14 @@ LEROBOT_BATCH ?= 16
 LEROBOT_OUT ?= runs/lerobot/$(ROBOT)/$(LEROBOT_POLICY)
 LEROBOT_ARGS ?=
 # Our chunk is 16 steps at 30 Hz; single observation steps (the harness gives no history); images stay uncropped.
-# Diffusion Policy is sized for a CPU (LeRobot's default U-Net has 300 M parameters, 22 s per step of 8 here; 100
-# denoising steps per action chunk): override with LEROBOT_ARGS on a GPU.
+# Diffusion Policy is sized for a CPU (LeRobot's default U-Net and its 100 denoising steps per action chunk are a
+# GPU's): override with LEROBOT_ARGS on a GPU.
 LEROBOT_FLAGS_act = --policy.pretrained_backbone_weights=null --policy.chunk_size=16 --policy.n_action_steps=16
 LEROBOT_FLAGS_diffusion = --policy.pretrained_backbone_weights=null --policy.n_obs_steps=1 --policy.horizon=16 \
 	--policy.n_action_steps=8 --policy.crop_shape=null --policy.down_dims=[128,256,512] --policy.num_inference_steps=10
 # SmolVLA is trained whole from scratch (VLM and action expert): its SmolVLM backbone is an untrained local directory
 # (config and byte-level tokenizer, `python -m mobilemani_vla.smolvla_backbone`, written once, before training; its
-# checkpoints name it, so keep it where it is). 7 M parameters, 128 px images; 5-10 s per step of 16 here.
+# checkpoints name it, so keep it where it is), sized for a CPU: 128 px images.
 SMOLVLM ?= $(abspath runs/lerobot/smolvlm)
 LEROBOT_FLAGS_smolvla = --policy.vlm_model_name=$(SMOLVLM) --policy.load_vlm_weights=false \
 	--policy.resize_imgs_with_padding=[128,128] --policy.train_expert_only=false --policy.freeze_vision_encoder=false \
@@ -187,7 +210,7 @@ lerobot: setup
 # The whole chain at small scale (times and results: docs/results/demo.md):
 # a PPO teacher for g1 opening test/box (seed DEMO_PPO_SEED), 160 episodes from it in the 16 train rooms (executed
 # with action noise, DART; labels smoothed over export.ppo_label_window steps; each room repainted per episode,
-# 64 px, H.264), the CPU recipe's VLA on the two RGB cameras (vla/model=cpu vla/train=cpu, DEMO_VLA_STEPS steps of
+# 64 px RGB, the streams the VLA reads, H.264), the CPU recipe's VLA on the two RGB cameras (vla/model=cpu vla/train=cpu, DEMO_VLA_STEPS steps of
 # 16 samples), closed-loop evaluation in the four unseen test rooms (teacher 20 episodes; VLA 20 with the
 # protocol's seeds plus 40 with seed=1), tables and a report with the VLA's 60-episode rate and its interval
 # (no rollout video: it doubles the evaluation on 2 cores; add EVAL_ARGS video_episodes=1 to `make eval`).
@@ -202,7 +225,7 @@ demo: setup
 	$(MAKE) rl ROBOT=g1 OBJECT=test/box SKILL=open ITERATIONS=$(DEMO_PPO_ITERATIONS) \
 		RL_ARGS="run_dir=$(DEMO)/rl/g1/test/box/open rl.ppo.seed=$(DEMO_PPO_SEED)"
 	$(MAKE) data ROBOT=g1 SUBSET=demo TEACHER=ppo DATA_ARGS="data_dir=$(DEMO)/data teacher.runs_dir=$(DEMO)/rl collect.action_noise=0.3 \
-		export.width=64 export.height=64 export.vcodec=h264 export.crf=20 export.modalities=[rgb,depth] \
+		export.width=64 export.height=64 export.vcodec=h264 export.crf=20 export.modalities=[rgb] \
 		export.room_repaint=$(DEMO_ROOM_REPAINT)"
 	$(MAKE) vla ROBOT=g1 VLA_ARGS="name=demo vla/model=cpu vla/train=cpu data.root=$(DEMO)/data/lerobot \
 		inputs.cameras=[head_rgb,wrist_rgb] train.batch_size=16 data.heldout_episodes=2 diffusion.repeated_steps=2 \

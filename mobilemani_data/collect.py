@@ -10,6 +10,7 @@ such teacher. The count of combinations to collect is printed up front, and ever
 progress and an ETA. `collect.workers=N` collects N combinations side by side in worker processes, each on
 an equal share of the CPU's threads; a combination's episodes depend only on its seed, not on the worker.
 A second collection of the same shard into the same data_dir stops while the first runs (`collection_lock`).
+A raw_dir that cannot be written (a file in the way, a read-only file system) stops before anything runs.
 """
 
 from __future__ import annotations
@@ -29,6 +30,7 @@ from mobilemani_data.shards import complete_header, write_shard
 from mobilemani_data.teachers import build_teacher, current_teacher, teachable_combinations
 from mobilemani_rl.cli import entry_point
 from mobilemani_rl.envs.config import with_env_task
+from mobilemani_rl.io import check_writable
 from mobilemani_rl.process_pool import run_in_pool, threads_per_worker
 from mobilemani_rl.progress import Progress
 from mobilemani_rl.registry import ConfigMismatchError
@@ -106,6 +108,7 @@ def timed_collection(cfg: DataCfg, _state: None, item: tuple[int, Combination, P
 
 
 def collect(cfg: DataCfg) -> list[Path]:
+    check_writable(cfg.raw_dir, "raw_dir")
     combos = shard_of(select_combinations(cfg.robot, cfg.subset), cfg.shard)
     paths = [Path(cfg.raw_dir) / shard_path(combo) for combo in combos]
     headers = [complete_header(path) for path in paths]

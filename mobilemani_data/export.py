@@ -5,6 +5,13 @@
 The dataset is written next to its final place and renamed when finalized, so an interrupted export never
 looks complete; `<dataset>.lock` beside it keeps a second export of the same dataset out. A shard that
 cannot be read is reported by name and left out; the others are exported.
+Non-finite values are skipped, not exported and not fatal: an episode with a NaN or an infinity in any float
+array (recorded in its shard, or in the vectors converted from it) is left out before it is rendered, with a
+warning naming the shard, episode, key and first row; the summary counts such episodes and the export report
+lists them (`skipped_episodes`). One bad episode among many thousands then costs neither the rest of a long
+export nor a training label; like a skipped shard, it makes the command exit with status 1 once the rest is
+written, so that it is not missed (`python -m mobilemani_data.validate` names it too).
+Where the dataset goes is checked for writability before the lock is taken and anything is rendered.
 A rerun on the same shards with the same settings (recorded in the export report) renders nothing;
 `export.overwrite=true` replaces a dataset exported from other shards or settings.
 Episode metadata (robot, object, category, skill, scene, split, ...) goes to `schema.EPISODES_FILE`.
@@ -36,7 +43,7 @@ from mobilemani_data.teachers import kind_of
 from mobilemani_rl.assets.robots import RobotDescription, get_robot
 from mobilemani_rl.cli import entry_point
 from mobilemani_rl.envs.config import with_env_task
-from mobilemani_rl.io import read_json
+from mobilemani_rl.io import check_writable, non_finite, read_json
 from mobilemani_rl.registry import MissingFileError, OutputExistsError
 from mobilemani_rl.render import CameraRenderCfg, CameraRenderer
 from mobilemani_rl.render.appearance import RoomRepainter
@@ -52,6 +59,7 @@ class ExportReport:
     episodes: int = 0
     frames: int = 0
     skipped: list[str] = field(default_factory=list)  # one message per shard left out
+    skipped_episodes: list[str] = field(default_factory=list)  # one message per non-finite episode left out
     render_s: float = 0.0
     total_s: float = 0.0
     reused: bool = False  # the dataset was already up to date: nothing was rendered
@@ -84,6 +92,12 @@ def create_dataset(root: Path, robot: RobotDescription, cfg: ExportCfg) -> LeRob
     )
 
 
+def label_window(cfg: ExportCfg, teacher: str) -> int:
+    """The smoothing window of a shard's labels: `ppo_label_window` for a PPO teacher's, none for the
+    scripted teacher's (smooth already)."""
+    return cfg.ppo_label_window if kind_of(teacher) == "ppo" else 1
+
+
 def add_shard(
     ds: LeRobotDataset,
     shard: Shard,
@@ -106,14 +120,24 @@ def add_shard(
         ),
     )
     repainter = RoomRepainter(replayer.model) if cfg.room_repaint > 0 else None
-    label_window = cfg.ppo_label_window if kind_of(shard.header["teacher"]) == "ppo" else 1
+    window = label_window(cfg, shard.header["teacher"])
     lines = []
     try:
         for k, episode in enumerate(shard.episodes):
             if repainter is not None:  # seeded by shard and episode: a rerun renders the same images
                 seed = zlib.crc32(f"{shard.path.relative_to(raw_dir)}/{k}".encode())
                 repainter.repaint(np.random.default_rng(seed), cfg.room_repaint)
-            vectors = episode_vectors(episode, len(robot.hand_joints), cfg.action_convention, label_window)
+            vectors = {}
+            bad = non_finite(episode.arrays)
+            if not bad:  # the converted vectors are the labels: they must be finite too
+                vectors = episode_vectors(episode, len(robot.hand_joints), cfg.action_convention, window)
+                bad = non_finite(vectors)
+            if bad:
+                key, row, value = bad[0]
+                message = f"{shard.path}: episode {k} {key} row {row} is not finite ({value})"
+                report.skipped_episodes.append(message)
+                print(f"skipped episode {message}", file=sys.stderr, flush=True)
+                continue
             for i, state in enumerate(episode.arrays["state"][FIRST_FRAME:]):
                 start = time.perf_counter()
                 frame = camera_images(renderer, replayer, state, cameras, keys)
@@ -180,6 +204,8 @@ def export(cfg: DataCfg) -> ExportReport:
         raise MissingFileError(
             f"no shards under {raw_dir / robot.name} (run python -m mobilemani_data.collect)"
         )
+    check_writable(root, "dataset_dir")  # the dataset, or the folder its .partial and .lock go into
+    check_writable(root.parent, "dataset_dir")
     with WriterLock(root.with_name(root.name + ".lock"), busy("export", root, "dataset_dir")):
         return export_shards(cfg, robot, raw_dir, root, paths)
 
@@ -192,7 +218,14 @@ def export_shards(
     # A rerun (make data, make demo) does not render the same dataset again.
     if (existing := up_to_date_report(root, source)) is not None:
         print(f"{root} is up to date with {len(paths)} shards and these export settings; skipped", flush=True)
-        return ExportReport(root, existing["episodes"], existing["frames"], existing["skipped"], reused=True)
+        return ExportReport(
+            root,
+            existing["episodes"],
+            existing["frames"],
+            existing["skipped"],
+            existing.get("skipped_episodes", []),
+            reused=True,
+        )
     if root.exists() and not cfg.export.overwrite:
         raise OutputExistsError(
             f"{root} exists and was exported from other shards or settings; "
@@ -216,7 +249,9 @@ def export_shards(
     ds.finalize()
     if not lines:
         shutil.rmtree(tmp)
-        raise ShardError(f"no readable shard under {raw_dir / robot.name}: {report.skipped}")
+        raise ShardError(
+            f"no readable shard under {raw_dir / robot.name}: {report.skipped + report.skipped_episodes}"
+        )
     (tmp / schema.EPISODES_FILE).write_text("".join(json.dumps(line) + "\n" for line in lines))
     report.total_s = time.perf_counter() - start
     (tmp / schema.EXPORT_REPORT_FILE).write_text(
@@ -225,6 +260,7 @@ def export_shards(
                 "episodes": report.episodes,
                 "frames": report.frames,
                 "skipped": report.skipped,
+                "skipped_episodes": report.skipped_episodes,
                 "width": cfg.export.width,
                 "height": cfg.export.height,
                 "vcodec": cfg.export.vcodec,
@@ -254,9 +290,9 @@ def main(cfg: DictConfig) -> None:
     )
     print(
         f"{report.root}: {report.episodes} episodes, {report.frames} frames{timing}; "
-        f"{len(report.skipped)} shards skipped"
+        f"{len(report.skipped)} shards skipped, {len(report.skipped_episodes)} non-finite episodes skipped"
     )
-    if report.skipped:
+    if report.skipped or report.skipped_episodes:
         sys.exit(1)
 
 

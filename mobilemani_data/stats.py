@@ -4,10 +4,10 @@ frames and mean episode length per skill, category, split; and how rough the tea
     python -m mobilemani_data.stats robot=g1
 
 Reads the exported dataset's episode metadata and actions; prints a Markdown table and JSON (also written to
-`meta/mobilemani_stats.json`). The action roughness, mean |a[t+1] - a[t]| per action dimension within
-episodes, tells how much frame-to-frame jitter a policy trained on the data has to imitate: in DART
-collections of g1 opening test/box the scripted teacher's actions move by ~0.02 per frame, those of a PPO
-teacher refined for 100 iterations by ~0.15.
+`meta/mobilemani_stats.json`, whose folder is checked for writability before the actions are read). The action
+roughness, mean |a[t+1] - a[t]| per action dimension within episodes, tells how much frame-to-frame jitter a
+policy trained on the data has to imitate: in DART collections of g1 opening test/box the scripted teacher's
+actions move by ~0.02 per frame, those of a PPO teacher refined for 100 iterations by ~0.15.
 """
 
 from __future__ import annotations
@@ -26,6 +26,7 @@ from mobilemani_data.config import DataCfg
 from mobilemani_data.metadata import read_episodes
 from mobilemani_rl.cli import entry_point
 from mobilemani_rl.envs.config import with_env_task
+from mobilemani_rl.io import check_writable
 from mobilemani_rl.schema import to_dataclass
 
 GROUPS = ("skill", "category", "split")
@@ -92,6 +93,7 @@ def main(cfg: DictConfig) -> None:
     data_cfg = to_dataclass(with_env_task(cfg), DataCfg).check()
     root = Path(data_cfg.dataset_dir)
     table = dataset_stats(read_episodes(root))
+    check_writable((root / schema.STATS_FILE).parent, "dataset_dir")  # before the actions are read
     table["action_roughness"] = dataset_action_roughness(root, data_cfg.export.repo_id)
     (root / schema.STATS_FILE).write_text(json.dumps(table, indent=2))
     print(json.dumps(table, indent=2))

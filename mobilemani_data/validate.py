@@ -2,10 +2,13 @@
 
     python -m mobilemani_data.validate robot=g1 [validate.replay_episodes=2]
 
-Shards: readable, complete, consistent. Replay: for a sample of episodes, the world poses recomputed from each
-recorded state and the states reached by re-stepping the physics equal the recorded ones within the tolerance.
-Dataset: features as the schema says, one metadata line per episode, frame counts equal to the shards', frames
-decodable. Prints every problem (each naming its file) and exits non-zero if there is any.
+Shards: readable, complete, consistent, and every float array of every episode finite (all episodes, one
+vectorised pass per array; a problem names the shard, episode, key and first row). Replay: for a sample of
+episodes, the world poses recomputed from each recorded state and the states reached by re-stepping the
+physics equal the recorded ones within the tolerance.
+Dataset: features as the schema says, one metadata line per episode, frame counts equal to the shards', every
+float column of every parquet file finite (named by file, episode, key and frame), frames decodable. Prints
+every problem (each naming its file) and exits non-zero if there is any.
 """
 
 from __future__ import annotations
@@ -15,6 +18,9 @@ from pathlib import Path
 
 import hydra
 import numpy as np
+import pyarrow as pa
+import pyarrow.compute as pc
+import pyarrow.parquet as pq
 from lerobot.datasets.lerobot_dataset import LeRobotDataset
 from omegaconf import DictConfig
 
@@ -32,6 +38,7 @@ from mobilemani_data.shards import Shard, ShardError, read_shard, shard_paths
 from mobilemani_rl.assets.robots import get_robot
 from mobilemani_rl.cli import entry_point
 from mobilemani_rl.envs.config import with_env_task
+from mobilemani_rl.io import non_finite
 from mobilemani_rl.registry import first_sentence
 from mobilemani_rl.schema import to_dataclass
 
@@ -44,6 +51,40 @@ def read_shards(raw_dir: Path, robot: str) -> tuple[list[Shard], list[str]]:
         except ShardError as err:
             problems.append(str(err))
     return shards, problems
+
+
+def episode_non_finite(shard: Shard, k: int) -> list[str]:
+    """A problem per float array of episode `k` of `shard` that holds a NaN or an infinity."""
+    return [
+        f"{shard.path}: episode {k} {key} row {row} is not finite ({value})"
+        for key, row, value in non_finite(shard.episodes[k].arrays)
+    ]
+
+
+def check_finite_shards(shards: list[Shard]) -> list[str]:
+    """Every float array of every episode of every shard holds finite numbers."""
+    return [problem for s in shards for k in range(len(s.episodes)) for problem in episode_non_finite(s, k)]
+
+
+def column_values(column: pa.ChunkedArray) -> np.ndarray:
+    """A parquet column as a (rows, ...) array: a vector feature (a list per row) as (rows, size)."""
+    column = column.combine_chunks()
+    if pa.types.is_list(column.type) or pa.types.is_fixed_size_list(column.type):
+        return pc.list_flatten(column).to_numpy(zero_copy_only=False).reshape(len(column), -1)
+    return column.to_numpy(zero_copy_only=False)
+
+
+def check_finite_dataset(root: Path, float_keys: list[str]) -> list[str]:
+    """Every float column (`float_keys`) of every data file of the dataset holds finite numbers; a file at a
+    time, so memory stays that of one file."""
+    problems = []
+    for path in sorted((root / "data").rglob("*.parquet")):
+        table = pq.read_table(path, columns=[*float_keys, "episode_index", "frame_index"])
+        values = {key: column_values(table[key]) for key in float_keys}
+        for key, row, value in non_finite(values):
+            episode, frame = table["episode_index"][row].as_py(), table["frame_index"][row].as_py()
+            problems.append(f"{path}: episode {episode} {key} frame {frame} is not finite ({value})")
+    return problems
 
 
 def check_replay(shards: list[Shard], cfg: ValidateCfg) -> tuple[list[str], float]:
@@ -107,6 +148,9 @@ def check_dataset(
             problems.append(f"{root}: episode {i} length differs from its shard {line['shard']}")
     if meta.total_frames != sum(line["length"] for line in episodes):
         problems.append(f"{root}: {meta.total_frames} frames, metadata lengths sum to another count")
+    problems += check_finite_dataset(
+        root, [key for key, spec in meta.features.items() if spec["dtype"] in ("float32", "float64")]
+    )
     ds = LeRobotDataset(meta.repo_id, root=root, video_backend="pyav")
     for index in np.linspace(0, len(ds) - 1, cfg.decode_frames).round().astype(int):
         try:
@@ -131,6 +175,7 @@ def validate(cfg: DataCfg) -> list[str]:
     raw_dir, root = Path(cfg.raw_dir), Path(cfg.dataset_dir)
     shards, problems = read_shards(raw_dir, cfg.robot)
     print(f"{len(shards)} readable shards, {sum(len(s.episodes) for s in shards)} episodes under {raw_dir}")
+    problems += check_finite_shards(shards)
     replay_problems, worst = check_replay(shards, cfg.validate)
     problems += replay_problems
     print(f"replay of {min(len(shards), cfg.validate.replay_episodes)} episodes: largest error {worst:.3g}")

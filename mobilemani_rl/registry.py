@@ -28,6 +28,11 @@ class OutputExistsError(InputError, FileExistsError):
     """An output made from other inputs or settings is in the way; the message says how to replace it."""
 
 
+class UnwritableOutputError(InputError):
+    """An output location this process cannot create or write (a file in the way of a folder, a read-only file
+    system, no permission): the message names it, before any work starts (mobilemani_rl.io.check_writable)."""
+
+
 class UnknownNameError(InputError):
     """An unknown robot, object, skill or scene name."""
 

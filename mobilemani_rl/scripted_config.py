@@ -1,5 +1,5 @@
 """Tuning of the scripted reference policy (mobilemani_rl.scripted). Each robot's description holds its own
-(RobotDescription.scripted); docs/results/scripted_success.md says why each value is what it is and what it
+(RobotDescription.scripted); docs/results/fidelity.md says why each value is what it is and what it
 measured. A module of its own: the robot descriptions cannot import the policy, which imports the env.
 """
 

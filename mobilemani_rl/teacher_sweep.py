@@ -15,7 +15,8 @@ still learning when 300 end). After every row the sweep rewrites `<out>/teachers
 every row finished so far, also by earlier runs over other rows (per row: test and train success, the warm
 start's scripted success, samples, wall minutes, the command that recreates it; rows below the paper's skill
 mean with the stage they fall short in), and the paper's teacher tables computed from those rows' test
-objects (`rl_by_skill`, `rl_by_category`). Checkpoints stay under `--runs`.
+objects (`rl_by_skill`, `rl_by_category`). Checkpoints stay under `--runs`. Both `--runs` and `--out` are
+checked for writability before the first row trains.
 """
 
 from __future__ import annotations
@@ -32,7 +33,7 @@ from omegaconf import DictConfig
 from mobilemani_rl.assets.objects import ALL_SKILLS, CATEGORIES, catalog_ids, get_object
 from mobilemani_rl.cli import entry_point
 from mobilemani_rl.eval import evaluate
-from mobilemani_rl.io import read_json, write_json_atomic
+from mobilemani_rl.io import check_writable, read_json, write_json_atomic
 from mobilemani_rl.registry import InputError, check_choice
 from mobilemani_rl.rl.config import RLCfg
 from mobilemani_rl.rl.run_dir import RESULT, WARM_START, is_complete, latest_checkpoint
@@ -243,6 +244,8 @@ def main(argv: list[str] | None = None) -> None:
             f"--skills {' '.join(args.skills)} selects no row of --categories {' '.join(args.categories)}, "
             f"whose skills are {', '.join(offered)}"
         )
+    check_writable(args.runs, "--runs")
+    check_writable(args.out, "--out")
     overrides = [
         row_overrides(args.robot, c, s, args.runs, hydra_overrides, per_skill.get(s)) for c, s in todo
     ]

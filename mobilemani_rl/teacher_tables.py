@@ -4,8 +4,9 @@
 
 Collects every `eval_*.json` written by `python -m mobilemani_rl.eval` under the given directory (the newest
 per run), averages success per object, then per (category, skill group, robot) and per (skill, robot), and
-prints Markdown; `--out` also writes .md and .tex files. The paper's numbers are shown for comparison; with no
-evaluation files the tables show only those, and a line names the missing input.
+prints Markdown; `--out` also writes .md and .tex files (checked for writability before anything is read). The
+paper's numbers are shown for comparison; with no evaluation files the tables show only those, and a line
+names the missing input.
 """
 
 from __future__ import annotations
@@ -18,7 +19,7 @@ import numpy as np
 
 from mobilemani_rl.assets.objects import CATEGORIES, OBJECTS, SPLITS, catalog_ids
 from mobilemani_rl.cli import entry_point
-from mobilemani_rl.io import read_json
+from mobilemani_rl.io import check_writable, read_json
 from mobilemani_rl.tables import Table, pct
 
 ROBOTS = ("g1", "xhand")
@@ -114,6 +115,8 @@ def main() -> None:
     parser.add_argument("--out", type=Path, default=None)
     parser.add_argument("--split", choices=SPLITS, default=None, help="only objects of this split")
     args = parser.parse_args()
+    if args.out is not None:
+        check_writable(args.out, "--out")
     success = object_success(newest_results(args.root), args.split)
     if not success:  # not an error: `make tables` goes on to the VLA tables, which may have results
         print(

@@ -7,7 +7,8 @@ Rerunning the same command resumes from the run directory's newest checkpoint wi
 (or, before PPO's first checkpoint, from the finished warm start); a finished run
 (result.json present) is left as it is, unless asked for more iterations (`rl.ppo.max_iterations`), which it
 goes on to from its newest checkpoint. While a process trains a run directory it holds `train.lock` there,
-so a second one on the same directory stops at once instead of writing the same checkpoints.
+so a second one on the same directory stops at once instead of writing the same checkpoints. A run_dir that
+cannot be written (a file in the way, a read-only file system) stops before anything is built.
 """
 
 from __future__ import annotations
@@ -21,7 +22,7 @@ from omegaconf import DictConfig, OmegaConf
 
 from mobilemani_rl.cli import entry_point
 from mobilemani_rl.eval import evaluate
-from mobilemani_rl.io import write_json_atomic
+from mobilemani_rl.io import check_writable, write_json_atomic
 from mobilemani_rl.rl.config import PpoCfg, RLCfg
 from mobilemani_rl.rl.factory import build_runner
 from mobilemani_rl.rl.run_dir import (
@@ -75,7 +76,7 @@ def load_newest_readable(runner: MobileManiRunner, run_dir: Path) -> Path | None
 
 def train(cfg: DictConfig) -> Path:
     ppo = to_dataclass(cfg, RLCfg).check().rl.ppo  # before anything is written
-    run_dir = Path(cfg.run_dir)
+    run_dir = check_writable(cfg.run_dir, "run_dir")
     with WriterLock(run_dir / TRAIN_LOCK, busy("training run", run_dir, "run_dir")):
         # first: a finished run asked for other settings is an error, for more iterations it goes on
         save_or_check_config(run_dir, cfg, RUN_RULES)

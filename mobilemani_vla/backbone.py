@@ -111,7 +111,7 @@ class CognitionBackbone(nn.Module):
         self, embeds: torch.Tensor, mask: torch.Tensor, positions: torch.Tensor, token_type: torch.Tensor
     ) -> dict:
         """PaliGemma's per-layer-type attention masks, as its forward builds them; at inference made once per
-        padding pattern: building them runs nested vmaps (~15% of a small model's CPU inference), and
+        padding pattern: building them runs nested vmaps (a large share of a small model's CPU inference), and
         closed-loop evaluation asks for one pattern at every step. Positions and token types follow from the
         padding mask and the shape. Training batches pad their prompts differently, so nothing is kept there
         (nor is the mask read back to the host)."""

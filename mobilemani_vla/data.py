@@ -4,7 +4,9 @@ Every frame's vectors are read once into memory (`FrameTable`); images come eith
 cache (`frame_cache`, the default: training is then compute-bound) or, with `data.cache=false`, from LeRobot's
 own video decoding per sample. Both give the same frame dicts to the processor. A few whole episodes are held
 out of training (`data.heldout_episodes`) for the diagnostics;
-normalisation bounds come from the training episodes only.
+normalisation bounds come from the training episodes only. A frame whose vectors hold a NaN or an infinity
+stops training before it starts, naming its parquet file, episode, key and frame: it would be a label, and
+it would make the normalisation bounds NaN.
 """
 
 from __future__ import annotations
@@ -20,6 +22,7 @@ from torch.utils.data import Dataset
 
 from mobilemani_data import schema
 from mobilemani_data.metadata import open_dataset_metadata
+from mobilemani_rl.io import non_finite
 from mobilemani_rl.registry import InputError, MissingFileError
 from mobilemani_vla.config import VLACfg
 from mobilemani_vla.frame_cache import cached_images
@@ -70,8 +73,17 @@ class FrameTable:
         episode_index = table["episode_index"]
         ends = {ep["episode_index"]: ep["dataset_to_index"] for ep in meta.episodes}
         names = {int(i): task for task, i in zip(meta.tasks.index, meta.tasks["task_index"], strict=True)}
+        columns = {k: table[k] for k in keys}
+        if bad := non_finite(columns):
+            key, row, value = bad[0]
+            episode = int(episode_index[row])
+            raise InputError(
+                f"{Path(meta.root) / meta.get_data_file_path(episode)}: episode {episode} {key} frame "
+                f"{int(table['frame_index'][row])} is not finite ({value}); training refuses non-finite "
+                "frames (python -m mobilemani_data.validate lists them all)"
+            )
         return cls(
-            {k: table[k] for k in keys},
+            columns,
             episode_index,
             np.array([ends[e] for e in episode_index]),
             [names[int(i)] for i in table["task_index"]],
@@ -112,7 +124,12 @@ def split_episodes(episodes: list[int], heldout: int, seed: int) -> tuple[np.nda
 
 
 def fit_normalizer(table: FrameTable, rows: np.ndarray, states: list[str]) -> Normalizer:
-    return Normalizer.fit({k: table.columns[k][rows] for k in vector_keys(states)})
+    """Bounds from the frames `rows`; finite ones, as FrameTable.read refuses non-finite frames."""
+    values = {k: table.columns[k][rows] for k in vector_keys(states)}
+    if bad := non_finite(values):  # a table built around FrameTable.read's check
+        key, row, value = bad[0]
+        raise InputError(f"normalisation statistics: {key} of frame {int(rows[row])} is not finite ({value})")
+    return Normalizer.fit(values)
 
 
 class CachedFrames(Dataset):

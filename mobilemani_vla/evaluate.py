@@ -11,7 +11,8 @@ comes within 5 cm of the goal. Episodes of a combination run as env batches of `
 of a combination is always the same start state, whichever of the `workers` processes runs it. The total is
 printed up front, and every batch's line ends with the episodes done so far and an ETA. Results:
 <output_dir>/<robot>/<name>/<split>.jsonl (one record per episode, resumable), a summary JSON next to it (per
-skill, per category), and head-camera MP4s of the first `video_episodes` episodes.
+skill, per category), and head-camera MP4s of the first `video_episodes` episodes. A run directory that
+cannot be written (a file in the way, a read-only file system) stops before the policy is built.
 """
 
 from __future__ import annotations
@@ -29,7 +30,7 @@ from mobilemani_rl.assets.robots import get_robot
 from mobilemani_rl.cli import entry_point
 from mobilemani_rl.envs.config import TaskCfg, with_env_task
 from mobilemani_rl.envs.mobilemani_env import MobileManiEnv, StepResult
-from mobilemani_rl.io import read_json, write_json_atomic
+from mobilemani_rl.io import check_writable, read_json, write_json_atomic
 from mobilemani_rl.process_pool import run_in_pool
 from mobilemani_rl.progress import Progress
 from mobilemani_rl.registry import ConfigMismatchError, InputError
@@ -170,7 +171,7 @@ def evaluate(cfg: EvalCfg, policy: EvalPolicy | None = None) -> dict:
             f"({size}) so that every episode keeps its seed"
         )
     combos = select_combinations(cfg.robot, cfg.subset)
-    out = run_dir(cfg)
+    out = check_writable(run_dir(cfg), "output_dir")
     settings = OmegaConf.to_container(OmegaConf.structured(cfg))
     if policy is not None and cfg.workers > 1:
         raise InputError(

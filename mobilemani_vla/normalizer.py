@@ -2,7 +2,7 @@
 
 The bounds are the global minimum and maximum of each dimension over the training split, computed by the
 project (`Normalizer.fit`) and saved with every checkpoint. LeRobot 0.6's dataset q01/q99 are count-weighted
-means of per-episode quantiles, which clipped up to 88% of a wrist-pose dimension; global bounds clip no
+means of per-episode quantiles, which clip much of a wrist-pose dimension; global bounds clip no
 training value. No dimension is exempt: our gripper/hand actions are continuous in [-1, 1]
 (CogACT masks its binary gripper).
 """

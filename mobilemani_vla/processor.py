@@ -4,7 +4,7 @@ One code path for training and inference, over a batch held feature by feature (
 or float in [0, 1]) resized to the backbone's image size, state inputs normalised and concatenated, prompts
 tokenised (left-padded), action chunks normalised with padding handled. Training stacks its dataset frames
 into such a batch (`__call__`); the evaluator builds one from its env batch directly, each camera converted
-and resized as one (B, 3, H, W) view (frame by frame, that took ~14% of an evaluation block at 520 px).
+and resized as one (B, 3, H, W) view (frame by frame, it took a large share of an evaluation block at 520 px).
 """
 
 from __future__ import annotations

@@ -2,14 +2,15 @@
 
     python -m mobilemani_vla.tables [results/eval] [--out results/vla] [--main default]
 
-Reads <root>/<robot>/<run>/<split>.jsonl written by `python -m mobilemani_vla.evaluate`
-(run = the eval `name`, by convention the training experiment's name) and writes Markdown + LaTeX for: success
-per skill and per category (run `--main`, unseen objects x unseen scenes), the image- and state-input
-ablations (runs named like conf/experiment/ablation_*), seen/unseen objects x scenes (run `--split-run`, its
-four split files) and the model comparison (runs named in MODELS, then every other run), plus PNG bar plots.
-Paper numbers sit beside ours; a '-' marks a result not evaluated yet, and the results files those cells
-wanted are listed at the end. A table that counts a results file whose evaluation has not ended (running or
-stopped: no summary of all its records) names it in its caption, with its episodes so far.
+Reads <root>/<robot>/<run>/<split>.jsonl written by `python -m mobilemani_vla.evaluate` (run = the eval
+`name`, by convention the training experiment's name) and writes Markdown + LaTeX for: success per skill and
+per category (run `--main`, unseen objects x unseen scenes), the image- and state-input ablations (runs named
+like conf/experiment/ablation_*), seen/unseen objects x scenes (run `--split-run`, its four split files) and
+the model comparison (runs named in MODELS, then every other run), plus PNG bar plots. Paper numbers sit
+beside ours; a '-' marks a result not evaluated yet, and the results files those cells wanted are listed at
+the end; `--out` is checked for writability before any result is read. A table that counts a results file
+whose evaluation has not ended (running or stopped: no summary of all its records) names it in its caption,
+with its episodes so far.
 """
 
 from __future__ import annotations
@@ -24,6 +25,7 @@ from matplotlib.figure import Figure  # the object API: no pyplot backend to sel
 
 from mobilemani_rl.assets.objects import CATEGORIES, catalog_ids
 from mobilemani_rl.cli import entry_point
+from mobilemani_rl.io import check_writable
 from mobilemani_rl.tables import Table, pct
 from mobilemani_vla.results import SKILL_GROUPS, finished, read_records, summarize
 
@@ -338,6 +340,7 @@ def main() -> None:
     parser.add_argument("--main", default="default", help="run of the per-skill and per-category tables")
     parser.add_argument("--split-run", default="ablation_image_all", help="run of the seen/unseen table")
     args = parser.parse_args()
+    check_writable(args.out, "--out")
     results = load(args.root)
     args.out.mkdir(parents=True, exist_ok=True)
     for name, table in build_tables(results, args.main, args.split_run).items():

@@ -6,7 +6,9 @@ an FSDP accelerate config (accelerate's FSDP files, plus the gathered weights as
 evaluation loads; sharded FSDP runs without the weight EMA and the held-out diagnostics). Checkpoints
 (safetensors + config + normaliser + tokenizer) go to train.output_dir/checkpoints; a run resumes from the
 newest one there (train.resume=false: a new run only, refused where checkpoints are). The main process holds
-train.output_dir/train.lock while it trains, so a second run on the directory stops at once.
+train.output_dir/train.lock while it trains, so a second run on the directory stops at once. A
+train.output_dir that cannot be written (a file in the way, a read-only file system) stops before the data is
+read.
 """
 
 from __future__ import annotations
@@ -32,6 +34,7 @@ from tqdm import tqdm
 from transformers import PreTrainedTokenizerBase
 
 from mobilemani_rl.cli import entry_point
+from mobilemani_rl.io import check_writable
 from mobilemani_rl.registry import InputError, OutputExistsError, first_sentence
 from mobilemani_rl.rl.run_dir import TRAIN_LOCK
 from mobilemani_rl.schema import to_dataclass
@@ -173,7 +176,7 @@ def train(cfg: VLACfg) -> TrainResult:
 
 def _train(cfg: VLACfg, held: ExitStack) -> TrainResult:
     os.environ.setdefault("WANDB_MODE", "offline")
-    output_dir = Path(cfg.train.output_dir)
+    output_dir = check_writable(cfg.train.output_dir, "train.output_dir")
     accelerator = Accelerator(
         mixed_precision=cfg.train.mixed_precision,
         project_dir=str(output_dir),

@@ -33,6 +33,7 @@ def test_non_positive_counts_name_their_keys(tmp_path):
         ("teacher.min_train_success=10", r"teacher.min_train_success=10.0 \(a success rate, 0 to 1\)"),
         ("export.crf=-1", r"export.crf=-1 \(0 to 63"),
         ("export.action_convention=referense", "unknown export.action_convention 'referense'"),
+        ("export.ppo_label_window=4", r"export.ppo_label_window=4 must be an odd whole number"),
         ("env.episode_length=0", "env.episode_length=0"),
         ("validate.replay_episodes=-1", r"validate.replay_episodes=-1 \(>= 0\)"),
         ("preview.episodes=0", "preview.episodes=0"),

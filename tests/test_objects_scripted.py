@@ -3,7 +3,7 @@
 A (robot, category, skill) passes when every sampled object succeeds in >= 60 % of 4 seeded episodes.
 One row is a known failure, marked xfail so that the report shows it (XFAIL, or XPASS on a lucky draw): the
 XHand picks holistic/0018 in 0.375-0.75 of 8 episodes over three seeds, the row's 2/3 objects in
-docs/results/scripted_success.md (its low stage, where the five-finger grasp lets round objects slip).
+docs/results/fidelity.md (its low stage, where the five-finger grasp lets round objects slip).
 """
 
 from __future__ import annotations
@@ -13,7 +13,7 @@ import pytest
 from mobilemani_rl.assets.objects import CATEGORIES, get_object
 from mobilemani_rl.scripted_table import PASS_RATE, episode_success, sample_objects
 
-KNOWN_FAILURES = {("xhand", "holistic", "pick"): "holistic/0018 below 0.6 (docs/results/scripted_success.md)"}
+KNOWN_FAILURES = {("xhand", "holistic", "pick"): "holistic/0018 below 0.6 (docs/results/fidelity.md)"}
 CASES = [
     pytest.param(
         robot,

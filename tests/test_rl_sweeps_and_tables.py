@@ -22,8 +22,9 @@ def test_slurm_launcher_config_composes():
 
 @pytest.mark.slow
 def test_a_sweep_through_submitit_trains_one_run_per_job(tmp_path):
-    """The README's sweep line on submitit's local executor, the plugin the slurm launcher extends: each job
-    pickles the task, trains in its own run directory and reports its result back (no cluster needed)."""
+    """The sweep line of docs/usage.md (Scaling out) on submitit's local executor, the plugin the slurm
+    launcher extends: each job pickles the task, trains in its own run directory and reports its result
+    back (no cluster needed)."""
     command = [
         sys.executable,
         "-m",

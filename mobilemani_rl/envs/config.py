@@ -21,10 +21,9 @@ class PhysicsCfg:
 
     MuJoCo takes `substeps` steps per control step (timestep = 1 / (control_hz * substeps)). 3 substeps
     (11.1 ms) is the largest setting at which the scripted grasps stay stable, measured with
-    python -m scripts.physics_stability (16 envs per task): at 3 substeps g1 opens the box in 100 % of
-    episodes with at most 6.7 mm contact penetration and picks the can in 88 % (24 mm); at 2 substeps
-    (16.7 ms, the reference's rate) penetration grows to 9.1 / 29.8 mm and the pick drops to 75 % as the light
-    can slips out. No setting produced NaNs or simulation errors. MuJoCo clamps contact time constants to
+    python -m scripts.physics_stability (docs/results/fidelity.md): at 2 substeps (16.7 ms, the reference's
+    rate) contact penetration grows and the light can slips out of the pick. No setting produced NaNs or
+    simulation errors. MuJoCo clamps contact time constants to
     twice the timestep, so larger steps mean softer contacts.
     """
 

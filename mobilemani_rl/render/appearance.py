@@ -1,12 +1,11 @@
 """Per-episode room repainting for rendered training data (domain randomisation of appearance).
 
 A policy trained on the 16 train rooms' fixed colours learns their backgrounds as well as the task; in the 4
-unseen test rooms it then misplaces its hand (docs/results/vla_cpu_recipe.md, run 4: 75% in training rooms,
-37.5% in test rooms). Repainting the room for every exported episode shows it many more backgrounds with the
-same geometry. Only the room changes: every colour of the `scene/room` subtree (materials, and geoms without
-one) is blended toward a random colour by a random amount up to `strength`, and the room's lights are dimmed
-or brightened together by up to `strength / 2`. The robot and the object keep their colours; nothing physical
-changes.
+unseen test rooms it then misplaces its hand (docs/results/vla.md). Repainting the room for every exported
+episode shows it many more backgrounds with the same geometry. Only the room changes: every colour of the
+`scene/room` subtree (materials, and geoms without one) is blended toward a random colour by a random amount
+up to `strength`, and the room's lights are dimmed or brightened together by up to `strength / 2`. The robot
+and the object keep their colours; nothing physical changes.
 """
 
 from __future__ import annotations

@@ -20,5 +20,5 @@ class CameraRenderCfg:
     far: float = 50.0  # m; beyond any room
     depth_clip: float = 5.0  # m mapped to 255 in the uint8 depth image, as in the reference
     # Facets around spheres, cylinders and capsules (MuJoCo's default is 28). On llvmpipe the cost of a frame
-    # grows with the triangle count: 16 renders about 1.5x faster and still looks round at 520 px.
+    # grows with the triangle count: 16 renders faster and still looks round at 520 px.
     curve_slices: int = 16

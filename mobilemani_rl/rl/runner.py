@@ -56,8 +56,8 @@ OUTPUT_DIFFERENTIABLE = (torch.nn.ELU, torch.nn.CELU, torch.nn.SELU, torch.nn.Re
 def activations_in_place(model: torch.nn.Module) -> None:
     """Apply the hidden activations in place on the linear layers' outputs, which no backward needs: a pass
     without an allocation, and ELU's backward then reads its output instead of recomputing exp of its input
-    (the update ~3.5% shorter on 2 cores). Exact in fp32; in bf16 the gradient moves by ~0.06%, a quarter of
-    bf16's own ~0.2% from fp32's. Autograd refuses any in-place write a backward would need."""
+    (docs/results/throughput.md). Exact in fp32; in bf16 the gradient moves by less than bf16's own rounding
+    moves it from fp32's. Autograd refuses any in-place write a backward would need."""
     for module in model.modules():
         if isinstance(module, OUTPUT_DIFFERENTIABLE):
             module.inplace = True
@@ -65,7 +65,7 @@ def activations_in_place(model: torch.nn.Module) -> None:
 
 def with_fused_step(optimizer: torch.optim.Optimizer) -> torch.optim.Optimizer:
     """The same optimizer and settings with its fused step: one kernel over all parameters instead of several
-    per tensor (the bf16 update ~7-10% faster on 2 cores); the arithmetic is the same up to rounding, and
+    per tensor (a faster update, docs/results/throughput.md); the arithmetic is the same up to rounding, and
     checkpoints keep their format."""
     params = [p for group in optimizer.param_groups for p in group["params"]]
     return type(optimizer)(params, **{**optimizer.defaults, "fused": True})

@@ -5,8 +5,8 @@ The reference trains every teacher from scratch on ~65M samples. A 2-core machin
 enough for reaching and opening but too few for PPO to discover a grasp that lifts an object (it learns to
 hover beside it). Here the actor first clones the scripted policy (mean-squared error on its actions) from
 episodes in which noise perturbs the executed actions but not the labels (DART, Laskey et al. 2017): plain
-cloning drifts into states that clean scripted episodes never visit and stalls there (~10% success on the
-can pick against ~60% with DART). The critic is fitted to the discounted returns of the task reward in those
+cloning drifts into states that clean scripted episodes never visit and stalls there
+(docs/results/teachers.md). The critic is fitted to the discounted returns of the task reward in those
 episodes. PPO then trains on the task reward alone, as the reference.
 """
 

@@ -16,8 +16,8 @@ ROBOT_RGBA = (0.85, 0.85, 0.88, 1.0)
 DARK_RGBA = (0.2, 0.2, 0.22, 1.0)
 FINGER_SOLIMP = (0.99, 0.995, 0.001, 0.5, 2.0)
 # Sliding friction of the gripper pads and XHand phalanges. The reference's 1.0 (times the object's 1.0) would
-# be 1.0 here too (MuJoCo takes a pair's larger value), but MuJoCo's soft contacts let held objects slip: the
-# scripted G1 pick drops from 48/48 to 42/48 episodes (docs/results/reference_fidelity.md).
+# be 1.0 here too (MuJoCo takes a pair's larger value), but MuJoCo's soft contacts let held objects slip and
+# the scripted G1 pick loses episodes (docs/results/fidelity.md).
 PAD_FRICTION = (1.5, 0.01, 0.001)
 
 

@@ -13,7 +13,7 @@ palm ahead of the shoulder). Grips and goals on the lowest placements (0.24-0.43
 tabletop doors, lids and faucets, dropped oven and dishwasher doors) are past the forward palm's reach, so the
 scripted policy approaches them with the palm pitched down (ScriptedPolicyCfg.low_grip_*; without it 11 of the
 39 rows of python -m mobilemani_rl.scripted_table --robots g1 fall below 3/3 objects;
-docs/results/g1_urdf_arm/scripted_table_g1.md).
+docs/results/fidelity.md).
 
 Frame conventions (robot root frame): forward +y, right +x, up +z, as the reference robot whose +y faces the
 object. The URDF is ROS-style (forward +x, left +y; its right arm sits at -y), so a fixed +90° yaw at the root
@@ -75,8 +75,8 @@ GRIPPER_ROLL = np.array([math.sqrt(0.5), 0.0, 0.0, math.sqrt(0.5)])
 # placement, collision shapes) changes the arm's margin. So the default is another solution of the same
 # palm pose (position and orientation within 0.5 mm / 0.05°; the elbow rides higher and farther out): j4 stays
 # at 1.2 (the palm's distance from the shoulder fixes it), the other joints keep >= 0.55 rad from the limits
-# and j6 off 0. Chosen among 40 such solutions for the IK test (0 cm) and the scripted box open/close/can pick
-# (1.00 / 0.94 / 0.88 at 64/32/32 episodes; the reference's joint values: 0.95 / 0.84 / 0.72). Two pinned
+# and j6 off 0. Chosen among 40 such solutions for the IK test and the scripted box open/close/can pick, where
+# it beats the reference's joint values (docs/results/fidelity.md). Two pinned
 # checks flip with small changes of the start: the held can's deepest finger contact in
 # test_scripted_policy (< 1.5 cm; 1.2 cm here, 1.6-2.9 cm on most other solutions, 2.5 cm on the reference's
 # values) and test_rl_warm_start's held-out cloning error (the same solution polished to 4 decimals fails it).
@@ -224,7 +224,7 @@ G1 = RobotDescription(
     default_root_xy=(0.0, -1.5),
     head_camera="head_camera",
     wrist_camera="wrist_camera",
-    # docs/results/scripted_success.md says why each value is what it is and what it measured
+    # docs/results/fidelity.md says why each value is what it is and what it measured
     scripted=ScriptedPolicyCfg(
         move_follow=0.0,
         approach_from_below=False,

@@ -282,7 +282,7 @@ XHAND = RobotDescription(
     default_root_xy=(0.0, -1.25),
     head_camera="head_camera",
     wrist_camera="wrist_camera",
-    # docs/results/scripted_success.md says why each value is what it is and what it measured
+    # docs/results/fidelity.md says why each value is what it is and what it measured
     scripted=ScriptedPolicyCfg(
         grasp_depth=0.012,
         close_steps=15,
