@@ -30,7 +30,7 @@ import numpy as np
 from hydra import compose, initialize_config_dir
 from omegaconf import DictConfig
 
-from mobilemani_rl.assets.objects import ALL_SKILLS, CATEGORIES, catalog_ids, get_object
+from mobilemani_rl.assets.objects import ALL_SKILLS, CATEGORIES
 from mobilemani_rl.cli import entry_point
 from mobilemani_rl.eval import evaluate
 from mobilemani_rl.io import check_writable, read_json, write_json_atomic
@@ -42,6 +42,7 @@ from mobilemani_rl.tables import pct
 from mobilemani_rl.teacher_tables import (
     PAPER_BY_SKILL,
     ROBOTS,
+    rows,
     write_tables,
 )
 from mobilemani_rl.train import check_run, train
@@ -49,16 +50,6 @@ from mobilemani_rl.train import check_run, train
 EVAL_SEED = 1000  # the seed `python -m mobilemani_rl.train eval_episodes=N` evaluates with
 WALL = "sweep_seconds.json"  # wall seconds of a row, summed over its finished or Ctrl-C'd attempts
 WEAKEST = 2  # test objects named in a low row's diagnosis
-
-
-def rows(categories: list[str] | None = None, skills: list[str] | None = None) -> list[tuple[str, str]]:
-    """(category, skill) rows in catalog order: articulated categories open/close, carts pull/push, pick."""
-    return [
-        (category, skill)
-        for category in categories or CATEGORIES
-        for skill in get_object(catalog_ids(category)[0]).skills
-        if skills is None or skill in skills
-    ]
 
 
 ITERATIONS = "rl.ppo.max_iterations="

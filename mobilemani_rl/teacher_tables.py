@@ -17,7 +17,7 @@ from pathlib import Path
 
 import numpy as np
 
-from mobilemani_rl.assets.objects import CATEGORIES, OBJECTS, SPLITS, catalog_ids
+from mobilemani_rl.assets.objects import CATEGORIES, OBJECTS, SPLITS, catalog_ids, get_object
 from mobilemani_rl.cli import entry_point
 from mobilemani_rl.io import check_writable, read_json
 from mobilemani_rl.tables import Table, pct
@@ -55,6 +55,21 @@ def object_success(results: list[dict], split: str | None = None) -> dict[tuple[
     return table
 
 
+def rows(categories: list[str] | None = None, skills: list[str] | None = None) -> list[tuple[str, str]]:
+    """(category, skill) rows in catalog order: articulated categories open/close, carts pull/push, pick."""
+    return [
+        (category, skill)
+        for category in categories or CATEGORIES
+        for skill in get_object(catalog_ids(category)[0]).skills
+        if skills is None or skill in skills
+    ]
+
+
+def trained_rows(success: dict[tuple[str, str, str], float], robot: str) -> int:
+    """How many of the table's (category, skill) rows the robot has evaluated objects in."""
+    return len({(OBJECTS[object_id].category, skill) for r, object_id, skill in success if r == robot})
+
+
 def mean_or_none(values: list[float]) -> float | None:
     return float(np.mean(values)) if values else None
 
@@ -64,7 +79,7 @@ def category_table(success: dict[tuple[str, str, str], float]) -> Table:
     for (robot, object_id, skill), rate in success.items():
         group = "forward" if skill in FORWARD else "backward"
         grouped[(OBJECTS[object_id].category, group, robot)].append(rate)
-    rows = []
+    table_rows = []
     for category in CATEGORIES:
         counts = [
             len(catalog_ids(category)),
@@ -74,7 +89,7 @@ def category_table(success: dict[tuple[str, str, str], float]) -> Table:
         cells = [
             pct(mean_or_none(grouped[(category, g, r)])) for g in ("forward", "backward") for r in ROBOTS
         ]
-        rows.append([category.replace("_", " ").title(), *map(str, counts), *cells])
+        table_rows.append([category.replace("_", " ").title(), *map(str, counts), *cells])
     header = [
         "Object",
         "Total",
@@ -85,23 +100,30 @@ def category_table(success: dict[tuple[str, str, str], float]) -> Table:
         "Close/Push G1",
         "Close/Push XHand",
     ]
-    return Table(header, rows, "Success rates (%) of MobileManiRL teachers per object category.")
+    return Table(
+        header, table_rows, "Success rates (%) of MobileManiRL teachers per object category (-: not trained)."
+    )
 
 
 def skill_table(success: dict[tuple[str, str, str], float]) -> Table:
-    rows = []
+    table_rows = []
     for skill in SKILLS:
         ours = [
             mean_or_none([v for (r, _, s), v in success.items() if r == robot and s == skill])
             for robot in ROBOTS
         ]
-        rows.append([skill.title(), *map(pct, ours), *(f"{p:.1f}" for p in PAPER_BY_SKILL[skill])])
+        table_rows.append([skill.title(), *map(pct, ours), *(f"{p:.1f}" for p in PAPER_BY_SKILL[skill])])
     means = [mean_or_none(list(v for (r, _, _), v in success.items() if r == robot)) for robot in ROBOTS]
-    rows.append(["Mean", *map(pct, means), "89.6", "92.9"])
+    table_rows.append(["Mean", *map(pct, means), "89.6", "92.9"])
+    coverage = ", ".join(
+        f"{name} {trained_rows(success, robot)} of {len(rows())}"
+        for robot, name in zip(ROBOTS, ("G1", "XHand"), strict=True)
+    )
     return Table(
         ["Skill", "G1", "XHand", "G1 (paper)", "XHand (paper)"],
-        rows,
-        "Success rates (%) of MobileManiRL teachers across the 5 skills.",
+        table_rows,
+        "Success rates (%) of MobileManiRL teachers across the 5 skills: each cell averages the evaluated "
+        f"objects of the category rows trained ({coverage} rows; -: none trained).",
         separators=(len(SKILLS),),
     )
 

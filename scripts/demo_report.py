@@ -135,7 +135,7 @@ def eval_section(demo: Path) -> list[str]:
     runs = {
         name: read_records(path)
         for name in ("teacher", "vla", "vla_seed1")
-        if (path := demo / "eval" / "g1" / name / "unseen_unseen.jsonl").is_file()
+        if (path := newest(list((demo / "eval" / "g1" / name).glob("*.jsonl")))) is not None
     }
     lines = [
         "## 4. Closed-loop evaluation (test/box open, the 4 unseen test rooms)",

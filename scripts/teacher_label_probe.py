@@ -5,8 +5,9 @@
 For each runs directory holding a g1 test/box open teacher (the demo's task), in the demo's first train rooms,
 with the demo's DART noise:
 - sensitivity: the mean |change| of the teacher's action when the observation's last action (the perturbed
-  one the env executed) is replaced by the teacher's own clean previous action, and when its time encoding is
-  moved one second later; beside it, the action's own mean step-to-step change;
+  one the env executed) is replaced by the teacher's own clean previous action, when its time encoding is
+  moved one second later, and when its velocities and accelerations are zeroed; beside it, the action's own
+  mean step-to-step change;
 - roughness of the recorded labels, mean |a[t+1] - a[t]|, raw and smoothed as `export.label_window` does;
   `--scripted` adds the scripted teacher's, whose labels a VLA learns well.
 """
@@ -35,20 +36,35 @@ SECOND = 30  # control steps
 
 
 def label_roughness(episodes: list, window: int) -> float:
-    """Mean |a[t+1] - a[t]| of the labels as exported with `export.label_window=window`."""
+    """Mean |a[t+1] - a[t]| of the labels as exported with `export.ppo_label_window=window`."""
     steps = [np.abs(np.diff(smoothed_labels(ep.arrays["action"], window), axis=0)).mean() for ep in episodes]
     return float(np.mean(steps))
 
 
+def velocity_columns(env) -> list[int]:
+    """The observation's velocity and acceleration entries (reference order: time, last action, palm pos /
+    euler / linvel / angvel, the same 12 per finger, joint pos / vel / acc), which one camera frame does not
+    show."""
+    fingers, joints = len(env.index.finger_sites), len(env.joint_limits)
+    palm = TIME_ENCODING_DIM + env.num_actions
+    columns = [c for part in range(1 + fingers) for c in range(palm + 12 * part + 6, palm + 12 * part + 12)]
+    joint_block = palm + 12 * (1 + fingers)
+    return columns + [joint_block + 3 * j + k for j in range(joints) for k in (1, 2)]
+
+
 class ProbedTeacher:
-    """The teacher's action, and what it would have been with its last-action or time input replaced."""
+    """The teacher's action, and what it would have been with its last-action, time or velocity input
+    replaced."""
 
     def __init__(self, teacher) -> None:
         self.env, self.policy = teacher.env, teacher.policy
         n, a = self.env.num_envs, self.env.num_actions
         self.previous_clean = np.zeros((n, a))
         self.last_action = slice(TIME_ENCODING_DIM, TIME_ENCODING_DIM + a)
-        self.changes: dict[str, list[float]] = {"last_action": [], "time": [], "own_step": []}
+        self.velocities = velocity_columns(self.env)
+        self.changes: dict[str, list[float]] = {
+            k: [] for k in ("last_action", "time", "velocities", "own_step")
+        }
 
     @torch.inference_mode()
     def _act(self, obs: np.ndarray) -> np.ndarray:
@@ -64,9 +80,11 @@ class ProbedTeacher:
         clean_last[:, self.last_action] = np.clip(self.previous_clean, -1.0, 1.0)
         later = obs.copy()
         later[:, :TIME_ENCODING_DIM] = time_encoding(env.env_times + SECOND)
+        still = obs.copy()
+        still[:, self.velocities] = 0.0
         running = ~fresh
         if running.any():
-            for key, other in (("last_action", clean_last), ("time", later)):
+            for key, other in (("last_action", clean_last), ("time", later), ("velocities", still)):
                 self.changes[key].append(float(np.abs(self._act(other) - action)[running].mean()))
             self.changes["own_step"].append(float(np.abs(action - self.previous_clean)[running].mean()))
         self.previous_clean = action.copy()
@@ -113,11 +131,16 @@ def main() -> None:
     results = [probe(t, args.rooms, args.episodes, args.num_envs) for t in teachers]
     args.out.write_text(json.dumps(results, indent=2) + "\n")
     windows = " | ".join(f"roughness w={w}" for w in WINDOWS)
-    print(f"| teacher | success | d(action): last action clean | time +1 s | own step | {windows} |")
-    print("|---|---:|---:|---:|---:|" + "---:|" * len(WINDOWS))
+    print(
+        "| teacher | kept / ended episodes | d(action): last action clean | time +1 s | velocities zeroed | "
+        f"own step | {windows} |"
+    )
+    print("|---|---:|---:|---:|---:|---:|" + "---:|" * len(WINDOWS))
     for r in results:
         s = r["sensitivity"]
-        sens = " | ".join(f"{s[k]:.4f}" if k in s else "-" for k in ("last_action", "time", "own_step"))
+        sens = " | ".join(
+            f"{s[k]:.4f}" if k in s else "-" for k in ("last_action", "time", "velocities", "own_step")
+        )
         rough = " | ".join(f"{r['label_roughness'][str(w)]:.4f}" for w in WINDOWS)
         print(f"| {r['teacher']} | {r['kept']}/{r['attempts']} | {sens} | {rough} |")
 

@@ -62,6 +62,7 @@ def test_tables_from_evaluation_files(tmp_path, monkeypatch, capsys):
     by_skill = (tmp_path / "out" / "rl_by_skill.md").read_text()
     assert "| Open | 75.0 | - | 86.6 | 91.9 |" in by_skill
     assert "| Mean | 76.7 | 25.0 | 89.6 | 92.9 |" in by_skill
+    assert "(G1 2 of 39, XHand 1 of 39 rows; -: none trained)" in by_skill  # what each mean averages
     by_category = (tmp_path / "out" / "rl_by_category.md").read_text()
     assert "| Box | 14 | 10 | 4 | 75.0 | - | - | - |" in by_category
     assert "| Laptop | 36 | 30 | 6 | - | - | - | 25.0 |" in by_category
