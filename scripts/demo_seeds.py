@@ -43,7 +43,8 @@ def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("folder", type=Path)
     args = parser.parse_args()
-    rows = [seed_row(run) for run in sorted(args.folder.glob("seed_*"))]
+    runs = sorted(args.folder.glob("seed_*"), key=lambda run: int(run.name.removeprefix("seed_")))
+    rows = [seed_row(run) for run in runs]
     print(
         "| PPO seed | teacher, 256 episodes | teacher, 20 in the test rooms | VLA, 60 in the test rooms "
         "| VLA per room (of 15) | held-out noise error "
