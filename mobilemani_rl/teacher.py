@@ -121,6 +121,9 @@ class TeacherPolicy:
         self.env, self.actor = env, actor
 
     @torch.inference_mode()
+    def act(self, obs: np.ndarray) -> np.ndarray:
+        """The actor's actions for any (num_obs,) rows, e.g. an observation with one input replaced."""
+        return self.actor(TensorDict({"policy": torch.from_numpy(obs)}, batch_size=[obs.shape[0]])).numpy()
+
     def __call__(self) -> np.ndarray:
-        obs = TensorDict({"policy": torch.from_numpy(self.env.obs)}, batch_size=[self.env.num_envs])
-        return self.actor(obs).numpy()
+        return self.act(self.env.obs)

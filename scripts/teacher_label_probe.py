@@ -19,8 +19,6 @@ import json
 from pathlib import Path
 
 import numpy as np
-import torch
-from tensordict import TensorDict
 
 from mobilemani_data.config import TeacherCfg
 from mobilemani_data.convert import smoothed_labels
@@ -66,10 +64,8 @@ class ProbedTeacher:
             k: [] for k in ("last_action", "time", "velocities", "own_step")
         }
 
-    @torch.inference_mode()
     def _act(self, obs: np.ndarray) -> np.ndarray:
-        batch = TensorDict({"policy": torch.from_numpy(obs)}, batch_size=[obs.shape[0]])
-        return self.policy.actor(batch).numpy().astype(np.float64)
+        return self.policy.act(obs).astype(np.float64)
 
     def __call__(self) -> np.ndarray:
         env, obs = self.env, self.env.obs
