@@ -11,6 +11,7 @@ PYTHON312 ?= $(shell for c in python3.12 $$(pyenv root 2>/dev/null)/versions/3.1
 	"$$c" -c 'import sys; assert sys.version_info[:2] == (3, 12)' >/dev/null 2>&1 && { echo "$$c"; break; }; done)
 
 ROBOT ?= g1
+# Every output goes under outputs/ by default (the path variables below and the Hydra configs' defaults).
 
 .PHONY: help setup test test-slow lint bench bench-sim bench-ppo clean-venv rl teachers tables vla bench-vla demo eval
 
@@ -19,19 +20,19 @@ setup: $(VENV)/.installed
 # One line per target (`make` alone still runs setup).
 help:
 	@echo "make setup        build .venv (Python 3.12) from pyproject.toml; skipped when up to date"
-	@echo "make demo         the whole chain at small scale: teacher, data, VLA, evaluation, report (docs/results/demo.md)"
+	@echo "make demo         the whole chain at small scale: teacher, data, VLA, evaluation, report (DEMO, docs/results/demo.md)"
 	@echo "make test         the default test suite (pytest, tiny configs)"
 	@echo "make test-slow    the slower tests (kill -9 reruns, multi-process training, trained teachers)"
 	@echo "make lint         ruff check and ruff format --check"
 	@echo "make rl           a PPO teacher for one task, then its evaluation (ROBOT OBJECT SKILL PPO ITERATIONS RL_ARGS)"
-	@echo "make teachers     the paper's teacher table, one teacher per category and skill (ROBOT TEACHER_ARGS)"
-	@echo "make data         collect, export, validate and describe a LeRobot dataset (ROBOT SUBSET TEACHER DATA_ARGS)"
+	@echo "make teachers     the paper's teacher table, one teacher per category and skill (ROBOT TEACHERS_OUT TEACHER_ARGS)"
+	@echo "make data         collect, export, validate and describe a LeRobot dataset (ROBOT PRESET SUBSET TEACHER DATA_ARGS)"
 	@echo "make vla          train MobileManiVLA (ROBOT EXPERIMENT VLA_ARGS)"
-	@echo "make recipe       the CPU VLA recipe end to end: data, VLA, evaluation in unseen rooms (RECIPE_SKILL)"
+	@echo "make recipe       the CPU VLA recipe end to end: data, VLA, evaluation in unseen rooms (RECIPE_SKILL RECIPE_STEPS)"
 	@echo "make lerobot      a stock LeRobot policy on a dataset, then the same evaluation (LEROBOT_POLICY LEROBOT_DATA)"
 	@echo "make eval         the paper's closed-loop evaluation (ROBOT CHECKPOINT POLICY PROTOCOL SPLIT WORKERS EVAL_ARGS)"
 	@echo "make tables       the paper's tables and plots from the results found (RL_RUNS EVAL_RESULTS)"
-	@echo "make bench        every benchmark in one JSON (results/bench.json) and one table"
+	@echo "make bench        every benchmark in one JSON (outputs/bench.json) and one table"
 	@echo "make bench-sim    the batched simulator against raw MuJoCo"
 	@echo "make bench-ppo    PPO training throughput"
 	@echo "make bench-data   dataset export throughput: frames/s, rendering share, size per episode (ROBOT)"
@@ -59,7 +60,7 @@ lint: setup
 	$(VENV)/bin/ruff check .
 	$(VENV)/bin/ruff format --check .
 
-# Every benchmark in one JSON (results/bench.json) and one table against the raw MuJoCo limits.
+# Every benchmark in one JSON (outputs/bench.json) and one table against the raw MuJoCo limits.
 bench: setup
 	$(PY) -m scripts.bench_all
 
@@ -84,10 +85,11 @@ rl: setup
 
 # The teacher table: one category-level teacher per category-skill row (39 for g1), each evaluated on the category's
 # train and test objects; rows run in turn, a finished row is skipped and an interrupted one resumes, so rerunning
-# continues. Results (JSON, per-row and paper tables, Markdown + LaTeX) go to TEACHERS_OUT, checkpoints to TEACHERS.
+# continues. Results (JSON, per-row and paper tables, Markdown + LaTeX) go to TEACHERS_OUT/<robot>, checkpoints to
+# TEACHERS. The results page's records are updated with TEACHERS_OUT=docs/results/teachers (docs/results/teachers.md).
 #   make teachers ROBOT=g1 [TEACHER_ARGS="--categories box laptop --skills open"]
-TEACHERS ?= runs/teachers
-TEACHERS_OUT ?= docs/results/teachers
+TEACHERS ?= outputs/teachers
+TEACHERS_OUT ?= outputs/teachers/tables
 TEACHER_ITERATIONS ?= 300
 # holistic pick is still learning when 300 iterations end, so pick rows get their own count (docs/results/teachers.md)
 TEACHER_PICK_ITERATIONS ?= 3000
@@ -99,9 +101,9 @@ teachers: setup
 		rl.ppo.warm_start.episodes=128 $(TEACHER_ARGS)
 
 # Tables (Markdown + LaTeX) and bar plots from teacher evaluations and closed-loop results.
-RL_RUNS ?= runs/rl
-EVAL_RESULTS ?= results/eval
-TABLES ?= results
+RL_RUNS ?= outputs/rl
+EVAL_RESULTS ?= outputs/eval
+TABLES ?= outputs/tables
 MAIN_RUN ?= default
 tables: setup
 	$(PY) -m mobilemani_rl.teacher_tables $(RL_RUNS) --out $(TABLES)/rl
@@ -128,11 +130,17 @@ bench-vla: setup
 	$(PY) -m mobilemani_vla.bench
 
 # MobileManiDataset (Hydra root conf/data.yaml): collect -> export -> validate -> stats for a subset:
-#   make data ROBOT=g1 [SUBSET=small|tiny|train|test TEACHER=scripted|ppo DATA_ARGS='export.width=224 export.height=224']
-SUBSET ?= small
-TEACHER ?= scripted
+#   make data ROBOT=g1 [PRESET=demo|recipe SUBSET=small|tiny|train|test TEACHER=scripted|ppo
+#                       DATA_ARGS='export.width=224 export.height=224']
+# PRESET names a whole dataset (conf/data/preset: subset, teacher, export settings). SUBSET and TEACHER reach the
+# command line only when set (a group choice there would replace the preset's); unset, conf/data.yaml's apply
+# (small, scripted).
+PRESET ?=
+SUBSET ?=
+TEACHER ?=
 DATA_ARGS ?=
-DATA_HYDRA = robot=$(ROBOT) data/subset=$(SUBSET) data/teacher=$(TEACHER) $(DATA_ARGS)
+DATA_HYDRA = $(strip robot=$(ROBOT) $(if $(PRESET),data/preset=$(PRESET)) $(if $(SUBSET),data/subset=$(SUBSET)) \
+	$(if $(TEACHER),data/teacher=$(TEACHER)) $(DATA_ARGS))
 .PHONY: data bench-data
 data: setup
 	$(PY) -m mobilemani_data.collect $(DATA_HYDRA)
@@ -143,39 +151,34 @@ data: setup
 bench-data: setup
 	$(PY) -m mobilemani_data.bench robot=$(ROBOT)
 
-# The CPU VLA recipe (docs/usage.md, results in docs/results/vla.md): 160 scripted-teacher episodes of g1 on test/box
-# in the 16 train rooms (executed with action noise, DART), each episode's room repainted, rendered at the model's
-# 64 px, the cpu model trained RECIPE_STEPS steps, then 40 closed-loop episodes in the 4 unseen test rooms.
+# The CPU VLA recipe (docs/usage.md, results in docs/results/vla.md): the dataset conf/data/preset/recipe.yaml for
+# one skill, the VLA conf/experiment/recipe.yaml trained RECIPE_STEPS steps, 40 closed-loop episodes in the 4 unseen
+# test rooms (conf/eval/protocol/recipe.yaml).
 #   make recipe [RECIPE_SKILL=open|close RECIPE_STEPS=9000]
-RECIPE ?= runs/recipe
-# Every exported episode's room repainted by up to this much (export.room_repaint, mobilemani_rl/render/appearance.py):
-# the recipe trains in the 16 train rooms and is evaluated in 4 unseen ones, which repainting makes less unlike them.
-ROOM_REPAINT ?= 0.6
+RECIPE ?= outputs/recipe
 RECIPE_SKILL ?= open
 RECIPE_STEPS ?= 9000
 RECIPE_DIR = $(RECIPE)/$(RECIPE_SKILL)
 .PHONY: recipe
 recipe: setup
-	$(MAKE) data ROBOT=g1 SUBSET=recipe TEACHER=scripted DATA_ARGS="data_dir=$(RECIPE_DIR)/data \
-		subset.skills=[$(RECIPE_SKILL)] collect.action_noise=0.3 export.width=64 export.height=64 export.vcodec=h264 export.crf=20 \
-		export.modalities=[rgb,depth] export.room_repaint=$(ROOM_REPAINT)"
-	$(MAKE) vla ROBOT=g1 VLA_ARGS="vla/model=cpu vla/train=cpu name=recipe_$(RECIPE_SKILL) \
-		data.root=$(RECIPE_DIR)/data/lerobot train.output_dir=$(RECIPE_DIR)/vla train.steps=$(RECIPE_STEPS)"
+	$(MAKE) data ROBOT=g1 PRESET=recipe DATA_ARGS="data_dir=$(RECIPE_DIR)/data subset.skills=[$(RECIPE_SKILL)]"
+	$(MAKE) vla ROBOT=g1 EXPERIMENT=recipe VLA_ARGS="name=recipe_$(RECIPE_SKILL) data.root=$(RECIPE_DIR)/data/lerobot \
+		train.output_dir=$(RECIPE_DIR)/vla train.steps=$(RECIPE_STEPS)"
 	$(MAKE) eval ROBOT=g1 POLICY=vla PROTOCOL=recipe NAME=vla_$(RECIPE_SKILL) \
 		CHECKPOINT=$(RECIPE_DIR)/vla/checkpoints/step_$(shell printf %08d $(RECIPE_STEPS)) \
 		EVAL_ARGS="output_dir=$(RECIPE)/eval subset.skills=[$(RECIPE_SKILL)]"
 
 # A stock LeRobot policy on a MobileManiDataset, unmodified: lerobot-train, then the same closed-loop protocol as
 # MobileManiVLA (results land beside it, so `make tables` shows both). Pretrained backbones stay off (no downloads):
-#   make lerobot [LEROBOT_POLICY=act|diffusion|smolvla LEROBOT_DATA=runs/recipe/open/data/lerobot LEROBOT_STEPS=2000
-#                 PROTOCOL=recipe EVAL_ARGS="output_dir=runs/recipe/eval"]
+#   make lerobot [LEROBOT_POLICY=act|diffusion|smolvla LEROBOT_DATA=outputs/recipe/open/data/lerobot LEROBOT_STEPS=2000
+#                 PROTOCOL=recipe EVAL_ARGS="output_dir=outputs/recipe/eval"]
 # The default LEROBOT_DATA is `make data`'s dataset, six streams at 520 px: too large for ACT at batch 16 in a CPU
 # machine's memory (docs/results/baselines.md). On a CPU give it a dataset exported at 64-128 px (docs/usage.md).
 LEROBOT_POLICY ?= act
-LEROBOT_DATA ?= data/$(ROBOT)/lerobot
+LEROBOT_DATA ?= outputs/data/$(ROBOT)/lerobot
 LEROBOT_STEPS ?= 2000
 LEROBOT_BATCH ?= 16
-LEROBOT_OUT ?= runs/lerobot/$(ROBOT)/$(LEROBOT_POLICY)
+LEROBOT_OUT ?= outputs/lerobot/$(ROBOT)/$(LEROBOT_POLICY)
 LEROBOT_ARGS ?=
 # Our chunk is 16 steps at 30 Hz; single observation steps (the harness gives no history); images stay uncropped.
 # Diffusion Policy is sized for a CPU (LeRobot's default U-Net and its 100 denoising steps per action chunk are a
@@ -186,7 +189,7 @@ LEROBOT_FLAGS_diffusion = --policy.pretrained_backbone_weights=null --policy.n_o
 # SmolVLA is trained whole from scratch (VLM and action expert): its SmolVLM backbone is an untrained local directory
 # (config and byte-level tokenizer, `python -m mobilemani_vla.smolvla_backbone`, written once, before training; its
 # checkpoints name it, so keep it where it is), sized for a CPU: 128 px images.
-SMOLVLM ?= $(abspath runs/lerobot/smolvlm)
+SMOLVLM ?= $(abspath outputs/lerobot/smolvlm)
 LEROBOT_FLAGS_smolvla = --policy.vlm_model_name=$(SMOLVLM) --policy.load_vlm_weights=false \
 	--policy.resize_imgs_with_padding=[128,128] --policy.train_expert_only=false --policy.freeze_vision_encoder=false \
 	--policy.chunk_size=16 --policy.n_action_steps=16
@@ -207,34 +210,29 @@ lerobot: setup
 	$(MAKE) eval ROBOT=$(ROBOT) POLICY=lerobot NAME=lerobot_$(LEROBOT_POLICY) \
 		CHECKPOINT=$$(cd $(LEROBOT_LAST) && pwd -P)/pretrained_model
 
-# The whole chain at small scale (times and results: docs/results/demo.md):
-# a PPO teacher for g1 opening test/box (seed DEMO_PPO_SEED), 160 episodes from it in the 16 train rooms (executed
-# with action noise, DART; labels smoothed over export.ppo_label_window steps; each room repainted per episode,
-# 64 px RGB, the streams the VLA reads, H.264), the CPU recipe's VLA on the two RGB cameras (vla/model=cpu vla/train=cpu, DEMO_VLA_STEPS steps of
-# 16 samples), closed-loop evaluation in the four unseen test rooms (teacher 20 episodes; VLA 20 with the
-# protocol's seeds plus 40 with seed=1), tables and a report with the VLA's 60-episode rate and its interval
-# (no rollout video: it doubles the evaluation on 2 cores; add EVAL_ARGS video_episodes=1 to `make eval`).
+# The whole chain at small scale (times and results: docs/results/demo.md): a PPO teacher for g1 opening test/box
+# (seed DEMO_PPO_SEED, DEMO_PPO_ITERATIONS iterations), its dataset conf/data/preset/demo.yaml, the VLA
+# conf/experiment/demo.yaml trained DEMO_VLA_STEPS steps, closed-loop evaluation in the four unseen test rooms
+# (conf/eval/protocol/demo.yaml: the teacher over 20 episodes; the VLA over those 20 plus 40 with seed=1, in two
+# worker processes, a core each), tables and a report with the VLA's 60-episode rate and its interval,
+# DEMO/report.md (no rollout video: it doubles the evaluation on 2 cores; add EVAL_ARGS video_episodes=1 to
+# `make eval`).
 # Every stage resumes or skips finished work, so a rerun after an interruption continues.
-DEMO ?= runs/demo
+DEMO ?= outputs/demo
 DEMO_PPO_SEED ?= 42
 DEMO_PPO_ITERATIONS ?= 100
 DEMO_VLA_STEPS ?= 9000
-DEMO_ROOM_REPAINT ?= 0.6
 DEMO_CHECKPOINT = $(DEMO)/vla/checkpoints/step_$(shell printf %08d $(DEMO_VLA_STEPS))
 demo: setup
 	$(MAKE) rl ROBOT=g1 OBJECT=test/box SKILL=open ITERATIONS=$(DEMO_PPO_ITERATIONS) \
 		RL_ARGS="run_dir=$(DEMO)/rl/g1/test/box/open rl.ppo.seed=$(DEMO_PPO_SEED)"
-	$(MAKE) data ROBOT=g1 SUBSET=demo TEACHER=ppo DATA_ARGS="data_dir=$(DEMO)/data teacher.runs_dir=$(DEMO)/rl collect.action_noise=0.3 \
-		export.width=64 export.height=64 export.vcodec=h264 export.crf=20 export.modalities=[rgb] \
-		export.room_repaint=$(DEMO_ROOM_REPAINT)"
-	$(MAKE) vla ROBOT=g1 VLA_ARGS="name=demo vla/model=cpu vla/train=cpu data.root=$(DEMO)/data/lerobot \
-		inputs.cameras=[head_rgb,wrist_rgb] train.batch_size=16 data.heldout_episodes=2 diffusion.repeated_steps=2 \
-		train.output_dir=$(DEMO)/vla train.steps=$(DEMO_VLA_STEPS) \
-		train.save_every=$(DEMO_VLA_STEPS) train.diagnose_every=$(DEMO_VLA_STEPS) train.logger=none"
+	$(MAKE) data ROBOT=g1 PRESET=demo DATA_ARGS="data_dir=$(DEMO)/data teacher.runs_dir=$(DEMO)/rl"
+	$(MAKE) vla ROBOT=g1 EXPERIMENT=demo VLA_ARGS="data.root=$(DEMO)/data/lerobot train.output_dir=$(DEMO)/vla train.steps=$(DEMO_VLA_STEPS)"
 	$(MAKE) eval ROBOT=g1 POLICY=teacher PROTOCOL=demo NAME=teacher \
 		EVAL_ARGS="output_dir=$(DEMO)/eval policy.runs_dir=$(DEMO)/rl"
-	$(MAKE) eval ROBOT=g1 POLICY=vla PROTOCOL=demo NAME=vla CHECKPOINT=$(DEMO_CHECKPOINT) EVAL_ARGS="output_dir=$(DEMO)/eval"
-	$(MAKE) eval ROBOT=g1 POLICY=vla PROTOCOL=demo NAME=vla_seed1 CHECKPOINT=$(DEMO_CHECKPOINT) \
+	$(MAKE) eval ROBOT=g1 POLICY=vla PROTOCOL=demo NAME=vla CHECKPOINT=$(DEMO_CHECKPOINT) WORKERS=2 \
+		EVAL_ARGS="output_dir=$(DEMO)/eval"
+	$(MAKE) eval ROBOT=g1 POLICY=vla PROTOCOL=demo NAME=vla_seed1 CHECKPOINT=$(DEMO_CHECKPOINT) WORKERS=2 \
 		EVAL_ARGS="output_dir=$(DEMO)/eval seed=1 subset.episodes=10"
 	$(MAKE) tables RL_RUNS=$(DEMO)/rl EVAL_RESULTS=$(DEMO)/eval TABLES=$(DEMO)/tables MAIN_RUN=vla
 	$(PY) -m scripts.demo_report $(DEMO)

@@ -33,7 +33,7 @@ from mobilemani_rl.tasks import SubsetCfg
 class TeacherCfg:
     kind: str = "scripted"  # scripted | ppo
     runs_dir: str = (
-        "runs/rl"  # ppo: newest <runs_dir>/<robot>/<object or else its category>/<skill>/model_*.pt
+        "outputs/rl"  # ppo: newest <runs_dir>/<robot>/<object or else its category>/<skill>/model_*.pt
     )
     min_train_success: float = 0.1  # ppo: skip tasks whose teacher trained below this, as the reference does
 
@@ -144,22 +144,22 @@ class ValidateCfg:
 @dataclass
 class PreviewCfg:
     episodes: int = 3
-    path: str = "data/g1/preview.mp4"
+    path: str = "outputs/data/g1/preview.mp4"
 
 
 @dataclass
 class BenchCfg:
     sizes: list[int] = field(default_factory=lambda: [224, 520])
     episodes: int = 2
-    out: str = "data/g1/bench.json"
+    out: str = "outputs/data/g1/bench.json"
 
 
 @dataclass
 class DataCfg:
     robot: str = "g1"
-    data_dir: str = "data/g1"
-    raw_dir: str = "data/g1/raw"
-    dataset_dir: str = "data/g1/lerobot"
+    data_dir: str = "outputs/data/g1"
+    raw_dir: str = "outputs/data/g1/raw"
+    dataset_dir: str = "outputs/data/g1/lerobot"
     subset: SubsetCfg = field(default_factory=SubsetCfg)
     teacher: TeacherCfg = field(default_factory=TeacherCfg)
     collect: CollectCfg = field(default_factory=CollectCfg)

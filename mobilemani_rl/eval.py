@@ -1,8 +1,8 @@
 """Evaluate a PPO teacher checkpoint: success over N seeded episodes, reward breakdown,
 optional head-camera MP4s.
 
-    python -m mobilemani_rl.eval checkpoint=runs/rl/g1/test/box/open/model_1499.pt [episodes=256] [seed=1000]
-        [video_episodes=2]
+    python -m mobilemani_rl.eval checkpoint=outputs/rl/g1/test/box/open/model_1499.pt [episodes=256]
+        [seed=1000] [video_episodes=2]
 
 The task, env and PPO settings come from the run's saved config.yaml; each object's episodes run as one batch
 with the deterministic policy. A multi-object (category) policy is evaluated on the category's train and test

@@ -62,7 +62,7 @@ def find_every_teacher(
             f"no PPO teacher in {key}={runs_dir} for {len(missing)} of {len(found) + len(missing)} "
             f"object-skill tasks ({shown}): each needs a run <runs_dir>/<robot>/<object>/<skill> or its "
             "category's <runs_dir>/<robot>/<category>/<skill>. `make teachers ROBOT=<robot>` trains every "
-            f"category's into runs/teachers (then {key}=runs/teachers); or select fewer "
+            f"category's into outputs/teachers (then {key}=outputs/teachers); or select fewer "
             "(subset.categories=[...], subset.skills=[...])"
         )
     return found

@@ -1,7 +1,8 @@
 """A teacher for every category-skill row of a robot (the paper's teacher table), resumable:
 
-    python -m mobilemani_rl.teacher_sweep --robot g1 [--runs runs/teachers] [--out docs/results/teachers]
-        [--categories box laptop] [--skills open] [--skill-iterations pick:3000]
+    python -m mobilemani_rl.teacher_sweep --robot g1 [--runs outputs/teachers]
+        [--out outputs/teachers/tables/g1] [--categories box laptop] [--skills open]
+        [--skill-iterations pick:3000]
         [hydra overrides, e.g. rl.ppo.max_iterations=300]
 
 Each row trains one category-level policy on up to `objects_per_policy` of the category's train objects
@@ -213,8 +214,8 @@ def main(argv: list[str] | None = None) -> None:
         description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter
     )
     parser.add_argument("--robot", default="g1", choices=sorted(ROBOTS))
-    parser.add_argument("--runs", type=Path, default=Path("runs/teachers"))
-    parser.add_argument("--out", type=Path, default=Path("docs/results/teachers"))
+    parser.add_argument("--runs", type=Path, default=Path("outputs/teachers"))
+    parser.add_argument("--out", type=Path, default=None, help="default: outputs/teachers/tables/<robot>")
     parser.add_argument("--categories", nargs="+", default=None)
     parser.add_argument("--skills", nargs="+", default=None)
     parser.add_argument("--skill-iterations", nargs="+", default=[], metavar="SKILL:N")
@@ -223,6 +224,7 @@ def main(argv: list[str] | None = None) -> None:
     argv = sys.argv[1:] if argv is None else argv
     hydra_overrides = [a for a in argv if "=" in a and not a.startswith("-")]
     args = parser.parse_args([a for a in argv if a not in hydra_overrides])
+    args.out = args.out or Path("outputs/teachers/tables", args.robot)
     for category in args.categories or []:
         check_choice(category, CATEGORIES, "category")
     for skill in args.skills or []:

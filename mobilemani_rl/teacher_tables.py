@@ -1,6 +1,6 @@
 """Teacher (MobileManiRL) result tables from evaluation files, laid out like the paper's Tables 2 and 6.
 
-    python -m mobilemani_rl.teacher_tables [runs/rl] [--out results/rl]
+    python -m mobilemani_rl.teacher_tables [outputs/rl] [--out outputs/tables/rl]
 
 Collects every `eval_*.json` written by `python -m mobilemani_rl.eval` under the given directory (the newest
 per run), averages success per object, then per (category, skill group, robot) and per (skill, robot), and
@@ -133,7 +133,7 @@ def main() -> None:
     parser = argparse.ArgumentParser(
         description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter
     )
-    parser.add_argument("root", nargs="?", type=Path, default=Path("runs/rl"))
+    parser.add_argument("root", nargs="?", type=Path, default=Path("outputs/rl"))
     parser.add_argument("--out", type=Path, default=None)
     parser.add_argument("--split", choices=SPLITS, default=None, help="only objects of this split")
     args = parser.parse_args()

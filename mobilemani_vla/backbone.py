@@ -64,7 +64,6 @@ class CognitionBackbone(nn.Module):
         with torch.no_grad():
             row = vlm.get_input_embeddings()(torch.tensor([init_token_id], device=vlm.device))[0]
         self.cognition = nn.Parameter(row.detach().clone())
-        self._masks: tuple[tuple, dict] | None = None  # the last padding pattern and its attention masks
 
     @property
     def width(self) -> int:
@@ -110,20 +109,23 @@ class CognitionBackbone(nn.Module):
     def attention_masks(
         self, embeds: torch.Tensor, mask: torch.Tensor, positions: torch.Tensor, token_type: torch.Tensor
     ) -> dict:
-        """PaliGemma's per-layer-type attention masks, as its forward builds them; at inference made once per
-        padding pattern: building them runs nested vmaps (a large share of a small model's CPU inference), and
-        closed-loop evaluation asks for one pattern at every step. Positions and token types follow from the
-        padding mask and the shape. Training batches pad their prompts differently, so nothing is kept there
-        (nor is the mask read back to the host)."""
+        """PaliGemma's per-layer-type attention masks. Under SDPA (the default) a few tensor ops,
+        prefix_lm_masks; transformers' own builder runs nested vmaps, a third of a small model's CPU forward
+        pass. Other attention implementations take its builder's masks (additive ones, for eager)."""
+        text_config = self.vlm.config.text_config
+        if text_config._attn_implementation == "sdpa" and text_config.sliding_window >= mask.shape[1]:
+            return prefix_lm_masks(mask, token_type, text_config.layer_types)
+        return create_causal_mask_mapping(
+            self.vlm.config, embeds, mask, None, positions, token_type, None, is_training=self.training
+        )
 
-        def build() -> dict:
-            return create_causal_mask_mapping(
-                self.vlm.config, embeds, mask, None, positions, token_type, None, is_training=self.training
-            )
 
-        if self.training:
-            return build()
-        key = (embeds.dtype, embeds.device, tuple(embeds.shape), mask.cpu().numpy().tobytes())
-        if self._masks is None or self._masks[0] != key:
-            self._masks = (key, build())
-        return self._masks[1]
+def prefix_lm_masks(mask: torch.Tensor, token_type: torch.Tensor, layer_types: list[str]) -> dict:
+    """Boolean SDPA masks (B, 1, L, L) for every layer type, as PaliGemma builds them for a sequence shorter
+    than the sliding window: a query attends to every unpadded key before it, and prefix tokens (type 0) to
+    the whole unpadded prefix."""
+    length = mask.shape[1]
+    causal = torch.ones(length, length, dtype=torch.bool, device=mask.device).tril()
+    prefix = token_type == 0
+    allowed = (causal | (prefix[:, :, None] & prefix[:, None, :])) & mask.bool()[:, None, :]
+    return dict.fromkeys(layer_types, allowed[:, None])

@@ -27,6 +27,7 @@ from mobilemani_vla.data import fit_normalizer, open_data
 from mobilemani_vla.model import MobileManiVLA, build_model
 from mobilemani_vla.processor import STATE_DIMS, VLAProcessor
 from mobilemani_vla.tokenizer import build_word_tokenizer
+from mobilemani_vla.train import adamw
 
 
 def parameter_counts(model: MobileManiVLA) -> dict[str, int]:
@@ -69,7 +70,7 @@ def bench(name: str, batch: int, steps: int, runs: int, cameras: int) -> dict:
     torch.manual_seed(0)
     model = build_model(cfg, build_word_tokenizer())
     data = synthetic_batch(model, cfg, batch)
-    optimizer = torch.optim.AdamW(model.parameters(), lr=cfg.train.lr)
+    optimizer = adamw(model, cfg.train)
 
     def train_step() -> None:
         model.train()
@@ -119,7 +120,7 @@ def bench_dataset(root: str, name: str, batch: int, steps: int) -> list[dict]:
         loader = iter(
             torch.utils.data.DataLoader(data.train, batch_size=batch, shuffle=True, collate_fn=processor)
         )
-        optimizer = torch.optim.AdamW(model.parameters(), lr=cfg.train.lr)
+        optimizer = adamw(model, cfg.train)
         next(loader)
         start = time.perf_counter()
         for _ in range(steps):

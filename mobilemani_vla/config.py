@@ -76,6 +76,9 @@ class InputsCfg:
 
     cameras: list[str] = field(default_factory=lambda: list(CAMERAS))
     states: list[str] = field(default_factory=lambda: ["wrist_pose"])
+    # Fraction of training samples whose state feature is withheld: the state then cannot stand in for what
+    # only the cameras show (where the object is), so the image features must carry it.
+    state_dropout: float = 0.0
 
 
 @dataclass
@@ -91,7 +94,7 @@ class DiffusionCfg:
 
 @dataclass
 class DataCfg:
-    root: str = "data/g1/lerobot"
+    root: str = "outputs/data/g1/lerobot"
     repo_id: str = "mobilemani/g1"
     episodes: list[int] | None = None  # null: every episode
     heldout_episodes: int = 4  # whole episodes kept out of training for the diagnostics (seeded choice)
@@ -176,6 +179,12 @@ class VLACfg:
                 ("train.warmup_steps", t.warmup_steps, t.warmup_steps >= 0, ">= 0"),
                 ("train.ema_decay", t.ema_decay, 0 <= t.ema_decay < 1, "in [0, 1); 0 keeps no average"),
                 ("train.grad_clip", t.grad_clip, t.grad_clip >= 0, ">= 0; 0 clips nothing"),
+                (
+                    "inputs.state_dropout",
+                    self.inputs.state_dropout,
+                    0 <= self.inputs.state_dropout < 1,
+                    "in [0, 1)",
+                ),
                 ("diffusion.cfg_dropout", d.cfg_dropout, 0 <= d.cfg_dropout < 1, "in [0, 1); 0: no guidance"),
                 ("diffusion.ddim_steps", d.ddim_steps, d.ddim_steps <= d.train_timesteps, "<= its timesteps"),
                 ("diffusion.cfg_scale", d.cfg_scale, d.cfg_scale >= 0, ">= 0; 1: no guidance"),

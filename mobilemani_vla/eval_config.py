@@ -20,7 +20,7 @@ class PolicyCfg:
     kind: str = "vla"  # vla | lerobot | teacher | scripted | random
     checkpoint: str | None = None  # vla: checkpoint dir; lerobot: pretrained_model dir; teacher: model_*.pt
     runs_dir: str = (
-        "runs/rl"  # teacher without a checkpoint: newest <runs_dir>/<robot>/<object or category>/<skill>
+        "outputs/rl"  # teacher without a checkpoint: newest <runs_dir>/<robot>/<object or category>/<skill>
     )
     device: str = "cpu"
     batch_size: int = 16  # model policies: envs per forward pass
@@ -34,7 +34,7 @@ DEFAULT_IMAGE_SIZE = (224, 224)
 class EvalCfg:
     robot: str = "g1"
     name: str = "default"  # run name: results go to <output_dir>/<robot>/<name>/<split>.jsonl
-    output_dir: str = "results/eval"
+    output_dir: str = "outputs/eval"
     policy: PolicyCfg = field(default_factory=PolicyCfg)
     subset: SubsetCfg = field(default_factory=lambda: SubsetCfg(split="test"))  # `episodes` per combination
     episodes_per_batch: int = (

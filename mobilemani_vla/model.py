@@ -43,6 +43,7 @@ class MobileManiVLA(nn.Module):
         state_dim = sum(STATE_DIMS[s] for s in cfg.inputs.states)
         self.state_encoder = StateEncoder(state_dim, dit.width) if state_dim else None
         self.head = ActionDiffusion(dit, cfg.diffusion)
+        self.state_dropout = cfg.inputs.state_dropout
 
     def condition(self, batch: dict[str, torch.Tensor]) -> tuple[torch.Tensor, torch.Tensor | None]:
         head_dtype = self.head.dit.pos_embed.dtype  # a bfloat16 backbone feeds a float32 head
@@ -55,6 +56,9 @@ class MobileManiVLA(nn.Module):
     def forward(self, batch: dict[str, torch.Tensor]) -> torch.Tensor:
         """Training loss."""
         cognition, state = self.condition(batch)
+        if state is not None and self.state_dropout > 0 and self.training:
+            kept = torch.rand(state.shape[0], 1, device=state.device) >= self.state_dropout
+            state = state * kept  # a withheld state is the zero feature, as the no-state diagnostic feeds
         return self.head.loss(batch["actions"], cognition, state)
 
     @torch.no_grad()

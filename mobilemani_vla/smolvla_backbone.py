@@ -5,8 +5,8 @@ from `--policy.vlm_model_name`, and its pre-processor loads the tokenizer from i
 `--policy.load_vlm_weights=false`; the default is a hub id. This writes those files, built from transformers'
 SmolVLM classes and a byte-level tokenizer made with `tokenizers`, so that
 
-    python -m mobilemani_vla.smolvla_backbone runs/lerobot/smolvlm_tiny
-    lerobot-train --policy.type=smolvla --policy.vlm_model_name=runs/lerobot/smolvlm_tiny \
+    python -m mobilemani_vla.smolvla_backbone outputs/lerobot/smolvlm_tiny
+    lerobot-train --policy.type=smolvla --policy.vlm_model_name=outputs/lerobot/smolvlm_tiny \
         --policy.load_vlm_weights=false --policy.resize_imgs_with_padding=[128,128] ...
 
 trains SmolVLA (its VLM and action expert) from scratch. The checkpoint keeps the directory's path

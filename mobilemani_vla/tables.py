@@ -1,6 +1,6 @@
 """MobileManiVLA (closed-loop evaluation) tables and bar plots, laid out like the paper's, from results files.
 
-    python -m mobilemani_vla.tables [results/eval] [--out results/vla] [--main default]
+    python -m mobilemani_vla.tables [outputs/eval] [--out outputs/tables/vla] [--main default]
 
 Reads <root>/<robot>/<run>/<split>.jsonl written by `python -m mobilemani_vla.evaluate` (run = the eval
 `name`, by convention the training experiment's name) and writes Markdown + LaTeX for: success per skill and
@@ -335,8 +335,8 @@ def main() -> None:
     parser = argparse.ArgumentParser(
         description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter
     )
-    parser.add_argument("root", nargs="?", type=Path, default=Path("results/eval"))
-    parser.add_argument("--out", type=Path, default=Path("results/vla"))
+    parser.add_argument("root", nargs="?", type=Path, default=Path("outputs/eval"))
+    parser.add_argument("--out", type=Path, default=Path("outputs/tables/vla"))
     parser.add_argument("--main", default="default", help="run of the per-skill and per-category tables")
     parser.add_argument("--split-run", default="ablation_image_all", help="run of the seen/unseen table")
     args = parser.parse_args()

@@ -1,6 +1,6 @@
 """Every benchmark in one run: simulation, rendering, PPO training, dataset export, VLA training/inference.
 
-    python scripts/bench_all.py [--quick] [--out results/bench.json]
+    python scripts/bench_all.py [--quick] [--out outputs/bench.json]
 
 Each benchmark runs as its own process (its own CLI), so one can be rerun alone; this script collects their
 JSON into one file and prints one table of the headline figures next to the raw limit measured in the same run
@@ -100,7 +100,7 @@ def main() -> None:
         description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter
     )
     parser.add_argument("--quick", action="store_true")
-    parser.add_argument("--out", type=Path, default=Path("results/bench.json"))
+    parser.add_argument("--out", type=Path, default=Path("outputs/bench.json"))
     args = parser.parse_args()
     quick = args.quick
     with tempfile.TemporaryDirectory() as tmp:

@@ -1,7 +1,7 @@
 """Write the `make demo` report: what each stage produced, with the tables, plots and a rollout video if
 one was recorded.
 
-    python scripts/demo_report.py runs/demo
+    python scripts/demo_report.py outputs/demo
 
 Reads the stage outputs under the demo directory (teacher run and its evaluation, the LeRobot dataset, the VLA
 training losses, the closed-loop summaries, the tables) and writes <demo>/report.md, printing it too.

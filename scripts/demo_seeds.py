@@ -1,10 +1,13 @@
-"""The table of `make demo` runs with different PPO seeds, from the records each run left:
+"""The tables of `make demo` runs with different PPO seeds, and of VLA variants trained on one seed's data,
+from the records each run left:
 
     python -m scripts.demo_seeds docs/results/demo
 
 Each `seed_<N>/` folder holds a run's teacher evaluation (`teacher_eval_256.json`), its closed-loop episodes
 (`eval_teacher.jsonl`, `eval_vla.jsonl`, `eval_vla_seed1.jsonl`) and the VLA's held-out diagnostics
-(`vla_diagnostics.jsonl`); the table gives the VLA's 60 episodes with their Wilson interval and the spread.
+(`vla_diagnostics.jsonl`); the first table gives the VLA's 60 episodes with their Wilson interval and the
+spread. Each `seed_<N>/variants/<name>/` folder holds the VLA records of one more VLA trained on that run's
+dataset with other settings (its `overrides.txt`); the next table lists them beside the run's own VLA.
 """
 
 from __future__ import annotations
@@ -16,27 +19,38 @@ from pathlib import Path
 from mobilemani_vla.results import read_records
 from scripts.demo_report import rate_cell
 
+VLA_HEADER = (
+    "| VLA, 60 in the test rooms | VLA per room (of 15) | held-out noise error "
+    "| minus it: null image / empty instruction / no state |"
+)
+
+
+def vla_cells(folder: Path) -> tuple[list[str], float]:
+    """A VLA's 60 episodes, per room, and its last held-out diagnostics; and its success rate."""
+    vla = read_records(folder / "eval_vla.jsonl") + read_records(folder / "eval_vla_seed1.jsonl")
+    rooms = sorted({r["scene"] for r in vla})
+    per_room = "/".join(str(sum(r["success"] for r in vla if r["scene"] == room)) for room in rooms)
+    diag = json.loads((folder / "vla_diagnostics.jsonl").read_text().splitlines()[-1])
+    image = diag["noise_mse/image"]
+    gaps = " / ".join(
+        f"{diag[f'noise_mse/{k}'] - image:+.4f}" if f"noise_mse/{k}" in diag else "-"
+        for k in ("null_image", "null_instruction", "no_state")
+    )
+    return [rate_cell(vla), per_room, f"{image:.4f}", gaps], sum(r["success"] for r in vla) / len(vla)
+
 
 def seed_row(run: Path) -> tuple[list[str], float]:
     teacher = json.loads((run / "teacher_eval_256.json").read_text())
-    vla = read_records(run / "eval_vla.jsonl") + read_records(run / "eval_vla_seed1.jsonl")
-    rooms = sorted({r["scene"] for r in vla})
-    per_room = "/".join(str(sum(r["success"] for r in vla if r["scene"] == room)) for room in rooms)
-    diag = json.loads((run / "vla_diagnostics.jsonl").read_text().splitlines()[-1])
-    image = diag["noise_mse/image"]
-    gaps = " / ".join(
-        f"{diag[f'noise_mse/{k}'] - image:+.4f}" for k in ("null_image", "null_instruction", "no_state")
-    )
-    cells = [
-        run.name.removeprefix("seed_"),
-        f"{100 * teacher['success_rate']:.1f}%",
-        rate_cell(read_records(run / "eval_teacher.jsonl")),
-        rate_cell(vla),
-        per_room,
-        f"{image:.4f}",
-        gaps,
-    ]
-    return cells, sum(r["success"] for r in vla) / len(vla)
+    cells, rate = vla_cells(run)
+    seed, closed_loop = run.name.removeprefix("seed_"), rate_cell(read_records(run / "eval_teacher.jsonl"))
+    return [seed, f"{100 * teacher['success_rate']:.1f}%", closed_loop, *cells], rate
+
+
+def print_table(header: str, rows: list[list[str]]) -> None:
+    print(header)
+    print("|" + "|".join("---" for _ in range(header.count("|") - 1)) + "|")
+    for cells in rows:
+        print("| " + " | ".join(cells) + " |")
 
 
 def main() -> None:
@@ -45,19 +59,21 @@ def main() -> None:
     args = parser.parse_args()
     runs = sorted(args.folder.glob("seed_*"), key=lambda run: int(run.name.removeprefix("seed_")))
     rows = [seed_row(run) for run in runs]
-    print(
-        "| PPO seed | teacher, 256 episodes | teacher, 20 in the test rooms | VLA, 60 in the test rooms "
-        "| VLA per room (of 15) | held-out noise error "
-        "| minus it: null image / empty instruction / no state |"
-    )
-    print("|---|---:|---|---|---|---:|---|")
-    for cells, _ in rows:
-        print("| " + " | ".join(cells) + " |")
+    teacher_header = "| PPO seed | teacher, 256 episodes | teacher, 20 in the test rooms "
+    print_table(teacher_header + VLA_HEADER, [cells for cells, _ in rows])
     rates = [rate for _, rate in rows]
     print(
         f"\nSpread of the VLA over the seeds: {100 * min(rates):.1f}-{100 * max(rates):.1f}% "
         f"({100 * (max(rates) - min(rates)):.1f} points)."
     )
+    for run in runs:
+        variants = sorted((run / "variants").glob("*"))
+        if not variants:
+            continue
+        print(f"\nVLAs trained on the dataset of PPO seed {run.name.removeprefix('seed_')}:\n")
+        rows = [["the demo's", *vla_cells(run)[0]]]
+        rows += [[f"`{(v / 'overrides.txt').read_text().strip()}`", *vla_cells(v)[0]] for v in variants]
+        print_table("| VLA settings " + VLA_HEADER, rows)
 
 
 if __name__ == "__main__":

@@ -1,6 +1,6 @@
 """Plot PPO training curves (training success and mean episode reward against samples and wall time).
 
-    python scripts/plot_training_curve.py runs/rl/g1/test/box/open [more run dirs] --out curve.png
+    python scripts/plot_training_curve.py outputs/rl/g1/test/box/open [more run dirs] --out curve.png
 
 Reads the TensorBoard events every run writes, so it also works for runs that were interrupted.
 """
@@ -63,6 +63,7 @@ def plot_runs(runs: list[Path], out: Path) -> Path:
         ax.grid(alpha=0.3)
     axes[0].legend(fontsize=8)
     fig.tight_layout()
+    out.parent.mkdir(parents=True, exist_ok=True)
     fig.savefig(out, dpi=120)
     plt.close(fig)
     return out
@@ -73,7 +74,7 @@ def main() -> None:
         description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter
     )
     parser.add_argument("runs", nargs="+", type=Path)
-    parser.add_argument("--out", type=Path, default=Path("training_curve.png"))
+    parser.add_argument("--out", type=Path, default=Path("outputs/training_curve.png"))
     args = parser.parse_args()
     print(f"wrote {plot_runs(args.runs, args.out)}")
 

@@ -1,6 +1,6 @@
 """What makes a PPO teacher's DART demonstrations hard to imitate: its reliance on inputs a VLA never sees.
 
-    python -m scripts.teacher_label_probe runs/demo/rl [more runs dirs ...] [--scripted] --out probe.json
+    python -m scripts.teacher_label_probe outputs/demo/rl [more runs dirs ...] [--scripted] --out probe.json
 
 For each runs directory holding a g1 test/box open teacher (the demo's task), in the demo's first train rooms,
 with the demo's DART noise:

@@ -2,7 +2,7 @@
 seeds and print, per episode, success, the closest the grasp point came to its goal and the closest palm
 approach.
 
-    python -m scripts.vla_failure_distances runs/recipe/eval/g1/vla_open/config.json tabletop/17 tabletop/19
+    python -m scripts.vla_failure_distances outputs/recipe/eval/g1/vla_open/config.json tabletop/17
 
 A goal distance equal to the task's start distance means the object never moved (e.g. a lid never lifted).
 """

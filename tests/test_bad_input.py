@@ -63,6 +63,7 @@ def test_data_values_name_their_keys_before_anything_is_written(tmp_path, overri
         ("diffusion.ddim_steps=0", "diffusion.ddim_steps=0"),
         ("diffusion.ddim_steps=500", r"diffusion.ddim_steps=500 \(<= its timesteps\)"),
         ("diffusion.cfg_dropout=1", r"diffusion.cfg_dropout=1.0 \(in \[0, 1\)"),
+        ("inputs.state_dropout=1", r"inputs.state_dropout=1.0 \(in \[0, 1\)"),
         ("train.lr=-0.001", r"train.lr=-0.001 \(above 0\)"),
         ("train.ema_decay=1.5", r"train.ema_decay=1.5 \(in \[0, 1\); 0 keeps no average\)"),
         ("data.heldout_episodes=-1", r"data.heldout_episodes=-1 \(>= 0\)"),

@@ -34,6 +34,7 @@ GROUP_ROOTS = {
     "rl/ppo": ("rl",),
     "data/subset": ("data",),
     "data/teacher": ("data",),
+    "data/preset": ("data",),
     "vla/model": ("vla",),
     "vla/train": ("vla",),
     "eval/policy": ("eval",),
@@ -66,6 +67,20 @@ def test_every_group_is_covered():
 @pytest.mark.parametrize(("root", "override"), preset_cases())
 def test_preset_composes_and_converts(root, override):
     CONVERT[root](compose_root(root, [override] if override else []))
+
+
+def test_a_data_preset_chooses_its_groups_and_the_command_line_still_wins():
+    demo = to_dataclass(with_env_task(compose_root("data", ["data/preset=demo"])), DataCfg)
+    assert demo.subset.objects == ["test/box"] and demo.teacher.kind == "ppo"  # its groups beat data.yaml's
+    assert demo.collect.action_noise == 0.3 and demo.export.modalities == ["rgb"]
+    recipe = compose_root("data", ["data/preset=recipe", "data/subset=tiny", "export.width=32"])
+    assert recipe.teacher.kind == "scripted" and recipe.subset.episodes == 2 and recipe.export.width == 32
+
+
+def test_the_demo_experiment_saves_and_diagnoses_at_its_last_step():
+    cfg = CONVERT["vla"](compose_root("vla", ["+experiment=demo", "train.steps=40"]))
+    assert cfg.name == "demo" and cfg.model.name == "cpu" and cfg.inputs.cameras == ["head_rgb", "wrist_rgb"]
+    assert cfg.train.steps == cfg.train.save_every == cfg.train.diagnose_every == 40
 
 
 @pytest.mark.parametrize("preset", sorted(p.stem for p in (CONF / "rl/ppo").glob("*.yaml")))

@@ -76,7 +76,7 @@ def test_hydra_tree_converts_to_the_dataclasses(subset):
     with initialize_config_dir(config_dir=str(CONF), version_base="1.3"):
         composed = compose("data", overrides=[f"data/subset={subset}", "robot=xhand"])
     cfg = to_dataclass(with_env_task(composed), DataCfg).check()
-    assert isinstance(cfg, DataCfg) and cfg.robot == "xhand" and cfg.raw_dir == "data/xhand/raw"
+    assert isinstance(cfg, DataCfg) and cfg.robot == "xhand" and cfg.raw_dir == "outputs/data/xhand/raw"
     assert cfg.env.task.robot == "xhand"
     with initialize_config_dir(config_dir=str(CONF), version_base="1.3"), pytest.raises(ConfigKeyError):
         to_dataclass(with_env_task(compose("data", overrides=["+export.no_such_key=1"])), DataCfg)

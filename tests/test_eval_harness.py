@@ -166,10 +166,10 @@ def test_a_teacher_trained_on_since_is_not_counted_into_its_earlier_results(tmp_
 @pytest.mark.slow
 def test_trained_box_teacher_reproduces_its_success_rate():
     """The real g1 open test/box checkpoint: 256 episodes, seed 1000, as `python -m mobilemani_rl.eval`."""
-    checkpoint = latest_checkpoint(ROOT / "runs/rl/g1/test/box/open")
+    checkpoint = latest_checkpoint(ROOT / "outputs/rl/g1/test/box/open")
     if checkpoint is None:
         pytest.skip(
-            "no trained teacher in runs/rl/g1/test/box/open (make rl ROBOT=g1 OBJECT=test/box SKILL=open)"
+            "no trained teacher in outputs/rl/g1/test/box/open (make rl ROBOT=g1 OBJECT=test/box SKILL=open)"
         )
     own = evaluate_teacher(checkpoint, episodes=256, seed=1000)["success_rate"]
     env_cfg = to_dataclass(OmegaConf.load(checkpoint.parent / CONFIG), RLCfg).env_cfg()

@@ -39,9 +39,9 @@ def test_a_sweep_through_submitit_trains_one_run_per_job(tmp_path):
     done = subprocess.run(command, cwd=tmp_path, env=env, capture_output=True, text=True, timeout=600)
     assert done.returncode == 0, done.stderr[-2000:]
     for obj in ("box/0000", "box/0001"):
-        result = json.loads((tmp_path / "runs/rl/g1" / obj / "open/result.json").read_text())
+        result = json.loads((tmp_path / "outputs/rl/g1" / obj / "open/result.json").read_text())
         assert result["iterations"] == 3 and result["checkpoint"].endswith("model_2.pt")
-    (sweep,) = (tmp_path / "runs/sweeps").iterdir()
+    (sweep,) = (tmp_path / "outputs/rl/sweeps").iterdir()
     assert sorted(p.name for p in sweep.iterdir() if p.name.isdigit()) == ["0", "1"]
 
 

@@ -34,7 +34,7 @@ def test_smoothing_removes_jitter_and_keeps_the_motion():
 
 def test_only_ppo_labels_are_smoothed():
     cfg = ExportCfg(ppo_label_window=9)
-    assert label_window(cfg, "runs/rl/g1/test/box/open/model_99.pt") == 9
+    assert label_window(cfg, "outputs/rl/g1/test/box/open/model_99.pt") == 9
     assert label_window(cfg, "scripted") == 1
 
 

@@ -3,9 +3,9 @@
 import numpy as np
 import pytest
 import torch
-from transformers.models.paligemma.modeling_paligemma import PaliGemmaModel
+from transformers.models.paligemma.modeling_paligemma import PaliGemmaModel, create_causal_mask_mapping
 
-from mobilemani_vla.backbone import CognitionBackbone, paligemma_config
+from mobilemani_vla.backbone import CognitionBackbone, paligemma_config, prefix_lm_masks
 from mobilemani_vla.config import ModelCfg, VLACfg, compose_vla_cfg
 from mobilemani_vla.diffusion import make_scheduler
 from mobilemani_vla.dit import DiT
@@ -45,6 +45,22 @@ def test_dit_starts_at_zero_noise_and_drops_conditions():
     dropped = dit(x, t, c, drop=drop)
     assert torch.allclose(dropped[0], dit(x[:1], t[:1], torch.randn(1, 64), drop=drop[:1])[0], atol=1e-5)
     assert not torch.allclose(dropped[1], dit(x[1:2], t[1:2], torch.randn(1, 64))[0])
+
+
+def test_state_dropout_withholds_the_state_of_that_share_of_training_samples_only(monkeypatch):
+    torch.manual_seed(0)
+    model = build_model(compose_vla_cfg(["inputs.state_dropout=0.5"]), build_word_tokenizer())
+    seen = []
+    monkeypatch.setattr(model.head, "loss", lambda actions, cognition, state: seen.append(state))
+    monkeypatch.setattr(model, "condition", lambda batch: (None, torch.ones(400, 8)))
+    model.train()
+    model({"actions": None})
+    model.eval()
+    model({"actions": None})
+    withheld = (seen[0] == 0).all(dim=1)
+    assert torch.equal(seen[0][~withheld], torch.ones(int((~withheld).sum()), 8))
+    assert 0.4 < withheld.float().mean() < 0.6
+    assert torch.equal(seen[1], torch.ones(400, 8))  # evaluation always sees the state
 
 
 def test_paligemma2_3b_on_the_meta_device():
@@ -96,30 +112,38 @@ def test_cognition_token_reads_the_prefix_and_leaves_it_unchanged(backbone):
     assert not torch.allclose(first[0], moved[0])  # it sees every camera
 
 
-def test_attention_masks_are_paligemmas_own_built_once_per_padding_pattern(backbone, monkeypatch):
+def test_prefix_lm_masks_are_paligemmas_own_for_any_padding(backbone):
+    config = backbone[0].vlm.config
+    assert config.text_config._attn_implementation == "sdpa"  # the implementation that takes them
+    generator = torch.Generator().manual_seed(0)
+    for _ in range(20):
+        prompt = torch.ones(4, 7, dtype=torch.long)
+        for row in prompt:  # left padding of any length
+            row[: int(torch.randint(0, 7, (1,), generator=generator))] = 0
+        ones = prompt.new_ones(4, 1)
+        mask = torch.cat([ones.expand(4, 6), prompt, ones], dim=1)
+        positions = (mask.cumsum(-1) * mask).clamp(min=1)
+        token_type = torch.cat([mask.new_zeros(4, 13), ones], dim=1)
+        embeds = torch.zeros(4, mask.shape[1], 8)
+        theirs = create_causal_mask_mapping(config, embeds, mask, None, positions, token_type, None, True)
+        ours = prefix_lm_masks(mask, token_type, config.text_config.layer_types)
+        assert ours.keys() == theirs.keys()
+        for layer_type, expected in theirs.items():
+            assert torch.equal(ours[layer_type], expected)
+
+
+def test_features_equal_those_of_paligemmas_own_masking(backbone, monkeypatch):
     model, tokenizer = backbone
-    short = tokenizer(["open box", "open the box now"], padding=True, return_tensors="pt")
-    longer = tokenizer(
+    prompts = tokenizer(
         ["open box", "what action should the robot take to pull cart?"], padding=True, return_tensors="pt"
     )
     pixels = torch.rand(2, 2, 3, 32, 32)
     with torch.no_grad():
-        kept = [model(pixels, enc.input_ids, enc.attention_mask) for enc in (short, short, longer)]
-        masks = model._masks
-        model(pixels, short.input_ids, short.attention_mask)
-        assert model._masks is not masks  # a new pattern builds anew
-        masks = model._masks
-        model(pixels + 0.5, short.input_ids, short.attention_mask)
-        assert model._masks is masks  # the same pattern reuses them
-        model.train()
-        model(pixels, longer.input_ids, longer.attention_mask)
-        model.eval()
-        assert model._masks is masks  # training keeps nothing
-        # PaliGemma's forward building the masks from the 2-D padding mask itself gives the same features
+        ours = model(pixels, prompts.input_ids, prompts.attention_mask)
+        # PaliGemma's forward building the masks from the 2-D padding mask itself
         monkeypatch.setattr(model, "attention_masks", lambda embeds, mask, positions, token_type: mask)
-        fresh = [model(pixels, enc.input_ids, enc.attention_mask) for enc in (short, short, longer)]
-    for a, b in zip(kept, fresh, strict=True):
-        assert torch.equal(a, b)
+        theirs = model(pixels, prompts.input_ids, prompts.attention_mask)
+    assert torch.equal(ours, theirs)
 
 
 def test_ddim_uses_cogacts_ten_leading_steps_and_an_oracle_recovers_x0():

@@ -100,7 +100,7 @@ class RLCfg:
     # task.object may name a category (e.g. laptop): one policy over up to this many of its train objects.
     objects_per_policy: int = 8
     # One directory per task, so that rerunning the same command resumes it.
-    run_dir: str = "runs/rl/${task.robot}/${task.object}/${task.skill}"
+    run_dir: str = "outputs/rl/${task.robot}/${task.object}/${task.skill}"
     eval_episodes: int = 0  # > 0: evaluate the final checkpoint on this many seeded episodes
     logger: str = "tensorboard"  # tensorboard | wandb (offline unless WANDB_MODE says otherwise)
     wandb_project: str = "mobilemanibench"

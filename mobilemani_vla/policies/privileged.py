@@ -68,7 +68,7 @@ class TeacherEvalPolicy(PrivilegedPolicy):
     name = "teacher"
     inputs = frozenset({PRIVILEGED_STATE})
 
-    def __init__(self, checkpoint: str | None = None, runs_dir: str = "runs/rl") -> None:
+    def __init__(self, checkpoint: str | None = None, runs_dir: str = "outputs/rl") -> None:
         self.checkpoint = None if checkpoint is None else Path(checkpoint)
         self.runs_dir = Path(runs_dir)
         self.loaded: Path | None = None
