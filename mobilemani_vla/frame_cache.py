@@ -5,11 +5,13 @@ sequentially, resizes the frames to the model's input size and keeps them as one
 `<dataset>/vla_cache/<cameras>_<size>px/images.npy` of shape (frames, cameras, 3, size, size), read through a
 memory map. A manifest records a fingerprint of the files the frames come from (videos, episode metadata); a
 cache whose fingerprint no longer matches is rebuilt. The cache is built under a temporary name and renamed
-when complete, so an interrupted build is never used.
+when complete, so an interrupted build is never used; runs started together on one dataset take turns, so the
+first builds the cache and the others read it.
 """
 
 from __future__ import annotations
 
+import fcntl
 import hashlib
 import json
 import shutil
@@ -115,8 +117,11 @@ def cached_images(
     """(frames, len(cameras), 3, size, size) uint8 in dataset index order; built on first use or when the
     dataset changed, otherwise read from disk."""
     target = cache_dir(root, cameras, size)
+    target.parent.mkdir(parents=True, exist_ok=True)
     fingerprint = dataset_fingerprint(root)
     manifest = target / MANIFEST
-    if not manifest.is_file() or read_json(manifest).get("fingerprint") != fingerprint:
-        _build(root, meta, cameras, size, backend, target, fingerprint, progress)
+    with target.with_name(target.name + ".lock").open("a") as lock:
+        fcntl.flock(lock, fcntl.LOCK_EX)  # waits for a build in progress; released when the file closes
+        if not manifest.is_file() or read_json(manifest).get("fingerprint") != fingerprint:
+            _build(root, meta, cameras, size, backend, target, fingerprint, progress)
     return np.load(target / IMAGES, mmap_mode="r")

@@ -2,6 +2,7 @@
 resume, inference."""
 
 import json
+import threading
 from pathlib import Path
 
 import numpy as np
@@ -16,6 +17,7 @@ from mobilemani_rl.registry import InputError
 from mobilemani_rl.rl.run_dir import TRAIN_LOCK
 from mobilemani_rl.schema import to_dataclass
 from mobilemani_rl.writer_lock import WriterLock
+from mobilemani_vla import frame_cache
 from mobilemani_vla.config import ROOT_ONLY, VLACfg
 from mobilemani_vla.data import fit_normalizer, open_data
 from mobilemani_vla.frame_cache import cache_dir
@@ -290,6 +292,32 @@ def test_frame_cache_is_built_once_reused_and_rebuilt_when_the_dataset_changes(t
     info.write_text(info.read_text())  # any change to the dataset's files invalidates the cache
     open_data(cfg, 32, progress=False)
     assert cache.stat().st_mtime_ns != built
+
+
+def test_runs_started_together_build_the_frame_cache_once(tmp_path, monkeypatch):
+    root = write_synthetic_dataset(tmp_path / "g1", episodes=2, length=12)
+    cfg = tiny_cfg(root, tmp_path / "out")
+    first_building, go_on, builds = threading.Event(), threading.Event(), []
+
+    def slow_build(*args, **kwargs) -> None:
+        builds.append(threading.current_thread().name)
+        first_building.set()
+        go_on.wait()
+        build(*args, **kwargs)
+
+    build = frame_cache._build
+    monkeypatch.setattr(frame_cache, "_build", slow_build)
+    first = threading.Thread(target=open_data, args=(cfg, 32), kwargs={"progress": False}, name="first")
+    first.start()
+    first_building.wait()
+    second = threading.Thread(target=open_data, args=(cfg, 32), kwargs={"progress": False}, name="second")
+    second.start()
+    second.join(timeout=0.5)
+    assert second.is_alive()  # waiting for the first run's build, not building its own
+    go_on.set()
+    first.join()
+    second.join()
+    assert builds == ["first"]
 
 
 @pytest.mark.slow
