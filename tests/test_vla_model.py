@@ -146,6 +146,38 @@ def test_features_equal_those_of_paligemmas_own_masking(backbone, monkeypatch):
     assert torch.equal(ours, theirs)
 
 
+def test_training_gradients_equal_those_of_paligemmas_own_masking(monkeypatch):
+    cfg = compose_vla_cfg(["inputs.cameras=[head_rgb,wrist_rgb]"])
+    torch.manual_seed(0)
+    tokenizer = build_word_tokenizer()
+    model = build_model(cfg, tokenizer).train()
+    prompts = tokenizer(["open box", "pull the cart to the left"] * 2, padding=True, return_tensors="pt")
+    batch = {
+        "pixel_values": torch.rand(4, 2, 3, 32, 32),
+        **prompts,
+        "state": torch.rand(4, 9) * 2 - 1,
+        "actions": torch.rand(4, cfg.diffusion.chunk, cfg.action_dim) * 2 - 1,
+    }
+
+    def gradients() -> dict[str, torch.Tensor]:
+        model.zero_grad()
+        torch.manual_seed(1)  # the same diffusion noise, timesteps and dropout draws
+        model(batch).backward()
+        return {name: p.grad.clone() for name, p in model.named_parameters() if p.grad is not None}
+
+    ours = gradients()
+    monkeypatch.setattr(
+        model.backbone,
+        "attention_masks",
+        lambda embeds, mask, positions, token_type: create_causal_mask_mapping(
+            model.backbone.vlm.config, embeds, mask, None, positions, token_type, None, is_training=True
+        ),
+    )
+    theirs = gradients()
+    assert ours.keys() == theirs.keys()
+    assert all(torch.equal(ours[name], theirs[name]) for name in theirs)
+
+
 def test_ddim_uses_cogacts_ten_leading_steps_and_an_oracle_recovers_x0():
     scheduler = make_scheduler(VLACfg().diffusion)
     scheduler.set_timesteps(10)
