@@ -1,8 +1,11 @@
 """Where a closed-loop evaluation's episodes stop: rerun chosen rooms of a finished evaluation with the same
 seeds and print, per episode, success, the closest the grasp point came to its goal and the closest palm
-approach.
+approach; with `--teacher`, also how far the executed actions were from what a PPO teacher would do in the
+same states (mean |executed - teacher| per action dimension and step, the teacher's action clipped as the
+env clips it).
 
-    python -m scripts.vla_failure_distances outputs/recipe/eval/g1/vla_open/config.json tabletop/17
+    python -m scripts.vla_failure_distances outputs/recipe/eval/g1/vla_open/config.json tabletop/17 \
+        [--teacher outputs/demo/rl/g1/test/box/open/model_99.pt]
 
 A goal distance equal to the task's start distance means the object never moved (e.g. a lid never lifted).
 """
@@ -16,13 +19,37 @@ from pathlib import Path
 import numpy as np
 from omegaconf import OmegaConf
 
-from mobilemani_rl.envs.mobilemani_env import StepResult
+from mobilemani_rl.envs.mobilemani_env import MobileManiEnv, StepResult
 from mobilemani_rl.schema import to_dataclass
 from mobilemani_rl.tasks import Combination, select_combinations
 from mobilemani_vla.eval_config import EvalCfg
 from mobilemani_vla.evaluate import block_env, run_block
-from mobilemani_vla.policies.base import EvalPolicy
+from mobilemani_vla.policies.base import EvalPolicy, Observation
 from mobilemani_vla.policies.factory import build_policy
+from mobilemani_vla.policies.privileged import TeacherEvalPolicy
+
+
+class AskingTheTeacher(EvalPolicy):
+    """The evaluated policy, which acts; the teacher is asked at the same observations and its action kept."""
+
+    def __init__(self, policy: EvalPolicy, teacher: TeacherEvalPolicy) -> None:
+        self.policy, self.teacher = policy, teacher
+        self.name, self.action_frame = policy.name, policy.action_frame
+        self.image_size, self.action_dim, self.chunk_length = (
+            policy.image_size,
+            policy.action_dim,
+            policy.chunk_length,
+        )
+        self.inputs = policy.inputs | teacher.inputs
+        self.asked: np.ndarray | None = None
+
+    def start(self, env: MobileManiEnv, seed: int) -> None:
+        self.policy.start(env, seed)
+        self.teacher.start(env, seed)
+
+    def act(self, obs: Observation) -> np.ndarray:
+        self.asked = np.clip(self.teacher.act(obs)[:, 0], -1.0, 1.0)
+        return self.policy.act(obs)
 
 
 def closest_in_first_batch(cfg: EvalCfg, policy: EvalPolicy, combo: Combination) -> dict:
@@ -31,6 +58,8 @@ def closest_in_first_batch(cfg: EvalCfg, policy: EvalPolicy, combo: Combination)
     env, seed = block_env(cfg, combo, 0)
     goal = np.full(env.num_envs, np.inf)
     hand = np.full(env.num_envs, np.inf)
+    gap = np.zeros((env.num_envs, env.num_actions))
+    steps = np.zeros(env.num_envs)
     live = np.ones(env.num_envs, dtype=bool)
 
     def track(result: StepResult) -> None:
@@ -39,23 +68,32 @@ def closest_in_first_batch(cfg: EvalCfg, policy: EvalPolicy, combo: Combination)
         goal[live] = np.minimum(goal[live], reached.goal[live])
         hand[live] = np.minimum(hand[live], reached.hand[live])
         live[result.done_ids] = False
+        if isinstance(policy, AskingTheTeacher):  # the action each live env executed this step
+            gap[live] += np.abs(env.last_action[live] - policy.asked[live])
+            steps[live] += 1
 
     stats = run_block(cfg, policy, combo, env, seed, track)
-    return {
+    out = {
         "combination": combo.name,
         "success": stats.success.astype(int).tolist(),
         "closest_goal_cm": np.round(goal * 100, 1).tolist(),
         "closest_palm_cm": np.round(hand * 100, 1).tolist(),
     }
+    if isinstance(policy, AskingTheTeacher):
+        out["teacher_gap_per_dim"] = np.round(gap / np.maximum(steps, 1)[:, None], 2).tolist()
+    return out
 
 
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("config", type=Path, help="config.json of a finished evaluation run")
     parser.add_argument("scenes", nargs="+", help="scene ids to rerun, e.g. tabletop/17")
+    parser.add_argument("--teacher", help="a PPO teacher checkpoint to ask at every state the policy reaches")
     args = parser.parse_args()
     cfg = to_dataclass(OmegaConf.create(json.loads(args.config.read_text())["eval"]), EvalCfg)
     policy = build_policy(cfg.policy)
+    if args.teacher:
+        policy = AskingTheTeacher(policy, TeacherEvalPolicy(args.teacher))
     for combo in select_combinations(cfg.robot, cfg.subset):
         if combo.scene in args.scenes:
             print(json.dumps(closest_in_first_batch(cfg, policy, combo)), flush=True)
