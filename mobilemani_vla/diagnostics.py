@@ -7,6 +7,9 @@
   instructions', the model does not read the instruction.
 - Open-loop action error: DDIM-sampled chunks (clipped to [-1, 1] as when executed) against the recorded ones
   (normalised units, whole chunk and first step), for each classifier-free-guidance scale asked for.
+- The cognition feature's dependence on the input (`cognition_spread`): how much it varies from frame to frame
+  and how much it moves when the frames' images are swapped, relative to its size. A backbone whose feature
+  no longer depends on its input (spread 0) leaves the action head only the state.
 """
 
 from __future__ import annotations
@@ -49,6 +52,22 @@ def heldout_batch(dataset, frames: int, processor: VLAProcessor) -> dict[str, to
 
 
 @torch.no_grad()
+def cognition_spread(model: MobileManiVLA, batch: dict[str, torch.Tensor]) -> dict[str, float]:
+    """Over the batch's frames, the cognition feature's mean per-dimension standard deviation and its RMS
+    change when every frame's images are replaced by another frame's (a fixed derangement), both over its
+    RMS."""
+    prompt = batch["input_ids"], batch["attention_mask"]
+    feature = model.backbone(batch["pixel_values"], *prompt).float()
+    others = torch.roll(torch.arange(len(feature)), 1)
+    swapped = model.backbone(batch["pixel_values"][others], *prompt).float()
+    size = feature.pow(2).mean().sqrt().clamp(min=torch.finfo(feature.dtype).tiny)
+    return {
+        "cognition/spread": (feature.std(0).mean() / size).item(),
+        "cognition/image_swap": ((feature - swapped).pow(2).mean().sqrt() / size).item(),
+    }
+
+
+@torch.no_grad()
 def diagnose(
     model: MobileManiVLA, batch: dict[str, torch.Tensor], cfg_scales: list[float]
 ) -> dict[str, float]:
@@ -87,5 +106,6 @@ def diagnose(
         ).clamp(-1.0, 1.0)  # as executed
         out[f"open_loop_mse/cfg_{scale:g}"] = F.mse_loss(sampled.float(), actions).item()
         out[f"open_loop_mse_first/cfg_{scale:g}"] = F.mse_loss(sampled[:, 0].float(), actions[:, 0]).item()
+    out.update(cognition_spread(model, batch))
     model.train(was_training)
     return out
