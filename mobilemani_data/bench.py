@@ -20,10 +20,10 @@ from omegaconf import DictConfig
 from mobilemani_data.collect import collect
 from mobilemani_data.config import DataCfg
 from mobilemani_data.export import export
-from mobilemani_rl.cli import entry_point
 from mobilemani_rl.envs.config import with_env_task
-from mobilemani_rl.schema import to_dataclass
 from mobilemani_rl.tasks import SubsetCfg
+from mobilemani_rl.utils.cli import entry_point
+from mobilemani_rl.utils.config_store import to_dataclass
 
 BENCH_SUBSET = dict(objects=["dishwasher/0000"], skills=["open"], scenes_per_object=1)
 

@@ -41,14 +41,14 @@ from mobilemani_data.replay import Replayer
 from mobilemani_data.shards import Shard, ShardError, read_shard, shard_paths
 from mobilemani_data.teachers import kind_of
 from mobilemani_rl.assets.robots import RobotDescription, get_robot
-from mobilemani_rl.cli import entry_point
 from mobilemani_rl.envs.config import with_env_task
-from mobilemani_rl.io import check_writable, non_finite, read_json
-from mobilemani_rl.registry import MissingFileError, OutputExistsError
 from mobilemani_rl.render import CameraRenderCfg, CameraRenderer
 from mobilemani_rl.render.appearance import RoomRepainter
-from mobilemani_rl.schema import to_dataclass
-from mobilemani_rl.writer_lock import WriterLock, busy
+from mobilemani_rl.utils.cli import entry_point
+from mobilemani_rl.utils.config_store import to_dataclass
+from mobilemani_rl.utils.errors import MissingFileError, OutputExistsError
+from mobilemani_rl.utils.io import check_writable, non_finite, read_json
+from mobilemani_rl.utils.writer_lock import WriterLock, busy
 
 PARTIAL = ".partial"
 

@@ -24,10 +24,10 @@ from omegaconf import DictConfig
 from mobilemani_data import schema
 from mobilemani_data.config import DataCfg
 from mobilemani_data.metadata import read_episodes
-from mobilemani_rl.cli import entry_point
 from mobilemani_rl.envs.config import with_env_task
-from mobilemani_rl.io import check_writable
-from mobilemani_rl.schema import to_dataclass
+from mobilemani_rl.utils.cli import entry_point
+from mobilemani_rl.utils.config_store import to_dataclass
+from mobilemani_rl.utils.io import check_writable
 
 GROUPS = ("skill", "category", "split")
 

@@ -8,9 +8,9 @@ from mobilemani_data.config import TeacherCfg
 from mobilemani_data.recorder import Policy
 from mobilemani_rl.envs.config import EnvCfg, TaskCfg
 from mobilemani_rl.envs.mobilemani_env import MobileManiEnv
-from mobilemani_rl.registry import MissingFileError, check_choice
 from mobilemani_rl.scripted import ScriptedPolicy
 from mobilemani_rl.tasks import Combination, recording_env_cfg
+from mobilemani_rl.utils.errors import MissingFileError, check_choice
 
 KINDS = ("scripted", "ppo")
 

@@ -36,11 +36,11 @@ from mobilemani_data.metadata import (
 from mobilemani_data.replay import Replayer
 from mobilemani_data.shards import Shard, ShardError, read_shard, shard_paths
 from mobilemani_rl.assets.robots import get_robot
-from mobilemani_rl.cli import entry_point
 from mobilemani_rl.envs.config import with_env_task
-from mobilemani_rl.io import non_finite
-from mobilemani_rl.registry import first_sentence
-from mobilemani_rl.schema import to_dataclass
+from mobilemani_rl.utils.cli import entry_point
+from mobilemani_rl.utils.config_store import to_dataclass
+from mobilemani_rl.utils.errors import first_sentence
+from mobilemani_rl.utils.io import non_finite
 
 
 def read_shards(raw_dir: Path, robot: str) -> tuple[list[Shard], list[str]]:

@@ -14,7 +14,7 @@ from typing import Literal
 
 import numpy as np
 
-from mobilemani_rl.rotations import euler_from_quat, quat_apply, quat_conj, quat_from_euler, quat_mul
+from mobilemani_rl.utils.rotations import euler_from_quat, quat_apply, quat_conj, quat_from_euler, quat_mul
 
 Convention = Literal["conjugate", "reference"]
 

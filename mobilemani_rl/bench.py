@@ -22,9 +22,9 @@ import mujoco.batch
 import numpy as np
 
 from mobilemani_rl.assets.robots import ROBOTS
-from mobilemani_rl.cli import count, entry_point, seconds
 from mobilemani_rl.envs.config import EnvCfg, TaskCfg
 from mobilemani_rl.envs.mobilemani_env import MobileManiEnv
+from mobilemani_rl.utils.cli import count, entry_point, seconds
 
 
 def interleaved_rates(

@@ -22,15 +22,15 @@ import numpy as np
 from omegaconf import DictConfig, OmegaConf
 
 from mobilemani_rl.assets.objects import CATEGORIES, SPLITS, catalog_ids, get_object
-from mobilemani_rl.cli import entry_point
 from mobilemani_rl.envs.mobilemani_env import MobileManiEnv
-from mobilemani_rl.io import write_json_atomic
-from mobilemani_rl.progress import Progress
 from mobilemani_rl.rl.config import EvalRlCfg, RLCfg
 from mobilemani_rl.rl.factory import policy_objects
 from mobilemani_rl.rollout import run_first_episodes
-from mobilemani_rl.schema import to_dataclass
 from mobilemani_rl.teacher import TeacherPolicy, check_checkpoint_file, load_teacher, run_config
+from mobilemani_rl.utils.cli import entry_point
+from mobilemani_rl.utils.config_store import to_dataclass
+from mobilemani_rl.utils.io import write_json_atomic
+from mobilemani_rl.utils.progress import Progress
 from mobilemani_rl.video import HeadCameraRecorder
 
 

@@ -16,11 +16,11 @@ from collections.abc import Callable
 import mujoco
 
 from mobilemani_rl.assets.robots import ROBOTS
-from mobilemani_rl.cli import count, entry_point, seconds
 from mobilemani_rl.envs.config import EnvCfg, TaskCfg
 from mobilemani_rl.envs.mobilemani_env import MobileManiEnv
 from mobilemani_rl.render.config import CameraRenderCfg
 from mobilemani_rl.render.renderer import CameraRenderer
+from mobilemani_rl.utils.cli import count, entry_point, seconds
 
 
 def interleaved_rates(calls: list[Callable[[], object]], seconds: float, rounds: int = 10) -> list[float]:

@@ -16,10 +16,10 @@ from PIL import Image, ImageDraw
 from mobilemani_rl.assets.objects import OBJECTS, ObjectModel
 from mobilemani_rl.assets.robots import ROBOTS
 from mobilemani_rl.assets.scenes.placements import PLACEMENTS, Placement, setting_of
-from mobilemani_rl.cli import count, entry_point, png_path
 from mobilemani_rl.envs.config import EnvCfg, TaskCfg
 from mobilemani_rl.envs.mobilemani_env import MobileManiEnv
 from mobilemani_rl.render import CameraRenderCfg, CameraRenderer
+from mobilemani_rl.utils.cli import count, entry_point, png_path
 
 PER_ROW = 5  # placements per row
 LABEL_HEIGHT = 14

@@ -25,7 +25,8 @@ from mobilemani_rl.assets.objects import ObjectKind
 from mobilemani_rl.envs.mobilemani_env import PALM_ROTATION_TASKS, MobileManiEnv
 from mobilemani_rl.envs.observations import normalize_to_limits
 from mobilemani_rl.envs.rewards import GRASP_DIRECTION, palm_direction, rotation_onto, rotation_to
-from mobilemani_rl.rotations import (
+from mobilemani_rl.scripted_config import ScriptedPolicyCfg
+from mobilemani_rl.utils.rotations import (
     cross,
     quat_apply,
     quat_between_vectors,
@@ -33,7 +34,6 @@ from mobilemani_rl.rotations import (
     quat_from_matrix,
     quat_mul,
 )
-from mobilemani_rl.scripted_config import ScriptedPolicyCfg
 
 APPROACH, CLOSE, MOVE = 0, 1, 2
 PULLING_SKILLS = {"open", "pull", "pick"}

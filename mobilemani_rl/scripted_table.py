@@ -20,10 +20,10 @@ import numpy as np
 
 from mobilemani_rl.assets.objects import CATEGORIES, catalog_ids, get_object
 from mobilemani_rl.assets.robots import ROBOTS
-from mobilemani_rl.cli import count, entry_point
 from mobilemani_rl.envs.config import EnvCfg, TaskCfg
 from mobilemani_rl.envs.mobilemani_env import MobileManiEnv
 from mobilemani_rl.scripted import ScriptedPolicy
+from mobilemani_rl.utils.cli import count, entry_point
 
 PASS_RATE = 0.6
 

@@ -15,7 +15,7 @@ from mobilemani_rl.assets.objects import ALL_SKILLS, CATEGORIES, SPLITS, catalog
 from mobilemani_rl.assets.robots import ROBOTS
 from mobilemani_rl.assets.scenes import get_placement, placements_for
 from mobilemani_rl.envs.config import EnvCfg, TaskCfg
-from mobilemani_rl.registry import UnknownNameError, check_choice
+from mobilemani_rl.utils.errors import UnknownNameError, check_choice
 
 
 @dataclass

@@ -17,10 +17,10 @@ from tensordict import TensorDict
 
 from mobilemani_rl.assets.objects import get_object
 from mobilemani_rl.envs.batched import BatchedEnv
-from mobilemani_rl.io import read_json
-from mobilemani_rl.registry import MissingFileError
 from mobilemani_rl.rl.factory import build_runner
 from mobilemani_rl.rl.run_dir import CONFIG, RESULT, latest_checkpoint
+from mobilemani_rl.utils.errors import MissingFileError
+from mobilemani_rl.utils.io import read_json
 
 
 def teacher_run_dir(runs_dir: str | Path, robot: str, object_id: str, skill: str) -> Path:

@@ -32,14 +32,9 @@ from hydra import compose, initialize_config_dir
 from omegaconf import DictConfig
 
 from mobilemani_rl.assets.objects import ALL_SKILLS, CATEGORIES
-from mobilemani_rl.cli import entry_point
 from mobilemani_rl.eval import evaluate
-from mobilemani_rl.io import check_writable, read_json, write_json_atomic
-from mobilemani_rl.registry import InputError, check_choice
 from mobilemani_rl.rl.config import RLCfg
 from mobilemani_rl.rl.run_dir import RESULT, WARM_START, is_complete, latest_checkpoint
-from mobilemani_rl.schema import CONF_DIR, to_dataclass
-from mobilemani_rl.tables import pct
 from mobilemani_rl.teacher_tables import (
     PAPER_BY_SKILL,
     ROBOTS,
@@ -47,6 +42,11 @@ from mobilemani_rl.teacher_tables import (
     write_tables,
 )
 from mobilemani_rl.train import check_run, train
+from mobilemani_rl.utils.cli import entry_point
+from mobilemani_rl.utils.config_store import CONF_DIR, to_dataclass
+from mobilemani_rl.utils.errors import InputError, check_choice
+from mobilemani_rl.utils.io import check_writable, read_json, write_json_atomic
+from mobilemani_rl.utils.table_format import pct
 
 EVAL_SEED = 1000  # the seed `python -m mobilemani_rl.train eval_episodes=N` evaluates with
 WALL = "sweep_seconds.json"  # wall seconds of a row, summed over its finished or Ctrl-C'd attempts

@@ -18,9 +18,9 @@ from pathlib import Path
 import numpy as np
 
 from mobilemani_rl.assets.objects import CATEGORIES, OBJECTS, SPLITS, catalog_ids, get_object
-from mobilemani_rl.cli import entry_point
-from mobilemani_rl.io import check_writable, read_json
-from mobilemani_rl.tables import Table, pct
+from mobilemani_rl.utils.cli import entry_point
+from mobilemani_rl.utils.io import check_writable, read_json
+from mobilemani_rl.utils.table_format import Table, pct
 
 ROBOTS = ("g1", "xhand")
 FORWARD, BACKWARD = ("open", "pull", "pick"), ("close", "push")

@@ -20,15 +20,12 @@ from pathlib import Path
 import hydra
 from omegaconf import DictConfig, OmegaConf
 
-from mobilemani_rl.cli import entry_point
 from mobilemani_rl.eval import evaluate
-from mobilemani_rl.io import check_writable, write_json_atomic
 from mobilemani_rl.rl.config import PpoCfg, RLCfg
 from mobilemani_rl.rl.factory import build_runner
 from mobilemani_rl.rl.run_dir import (
     CURVE,
     RESULT,
-    TRAIN_LOCK,
     WARM_START,
     WARM_START_CHECKPOINT,
     ConfigRules,
@@ -41,8 +38,10 @@ from mobilemani_rl.rl.run_dir import (
 )
 from mobilemani_rl.rl.runner import MobileManiRunner
 from mobilemani_rl.rl.warm_start import warm_start
-from mobilemani_rl.schema import to_dataclass
-from mobilemani_rl.writer_lock import WriterLock, busy
+from mobilemani_rl.utils.cli import entry_point
+from mobilemani_rl.utils.config_store import to_dataclass
+from mobilemani_rl.utils.io import check_writable, write_json_atomic
+from mobilemani_rl.utils.writer_lock import TRAIN_LOCK, WriterLock, busy
 
 # where a run computes, not what it learns: a resumed run may change them (each env steps alone, so the
 # physics thread count does not change a trajectory)

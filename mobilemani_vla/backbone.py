@@ -16,7 +16,7 @@ from torch import nn
 from transformers import Gemma2Config, PaliGemmaConfig, PaliGemmaForConditionalGeneration, SiglipVisionConfig
 from transformers.models.paligemma.modeling_paligemma import PaliGemmaModel, create_causal_mask_mapping
 
-from mobilemani_rl.registry import MissingFileError
+from mobilemani_rl.utils.errors import MissingFileError
 from mobilemani_vla.config import ModelCfg
 
 

@@ -20,8 +20,8 @@ from collections.abc import Callable
 
 import torch
 
-from mobilemani_rl.cli import count, entry_point
-from mobilemani_rl.schema import group_options
+from mobilemani_rl.utils.cli import count, entry_point
+from mobilemani_rl.utils.config_store import group_options
 from mobilemani_vla.config import CAMERAS, VLACfg, compose_vla_cfg
 from mobilemani_vla.data import fit_normalizer, open_data
 from mobilemani_vla.model import MobileManiVLA, build_model

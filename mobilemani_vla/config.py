@@ -10,8 +10,8 @@ from hydra import compose, initialize_config_dir
 from omegaconf import OmegaConf
 
 from mobilemani_rl.envs.config import RobotChoiceCfg
-from mobilemani_rl.registry import InputError, check_positive, check_values
-from mobilemani_rl.schema import CONF_DIR, register_schema, to_dataclass
+from mobilemani_rl.utils.config_store import CONF_DIR, register_schema, to_dataclass
+from mobilemani_rl.utils.errors import InputError, check_positive, check_values
 from mobilemani_vla.augment import AugmentCfg
 from mobilemani_vla.dit import DIT_PRESETS, GELU_APPROXIMATIONS
 

@@ -22,8 +22,8 @@ from torch.utils.data import Dataset
 
 from mobilemani_data import schema
 from mobilemani_data.metadata import open_dataset_metadata
-from mobilemani_rl.io import non_finite
-from mobilemani_rl.registry import InputError, MissingFileError
+from mobilemani_rl.utils.errors import InputError, MissingFileError
+from mobilemani_rl.utils.io import non_finite
 from mobilemani_vla.config import VLACfg
 from mobilemani_vla.frame_cache import cached_images
 from mobilemani_vla.normalizer import Normalizer

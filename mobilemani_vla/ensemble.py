@@ -15,7 +15,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from mobilemani_rl.registry import InputError
+from mobilemani_rl.utils.errors import InputError
 
 
 @dataclass

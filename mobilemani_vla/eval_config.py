@@ -9,9 +9,9 @@ from typing import get_args
 
 from mobilemani_rl.base_frame import Convention
 from mobilemani_rl.envs.config import EnvCfg, EnvParamsCfg, RobotChoiceCfg, check_env_block
-from mobilemani_rl.registry import check_choice, check_positive, check_torch_device, check_values
-from mobilemani_rl.schema import register_schema
 from mobilemani_rl.tasks import SubsetCfg
+from mobilemani_rl.utils.config_store import register_schema
+from mobilemani_rl.utils.errors import check_choice, check_positive, check_torch_device, check_values
 from mobilemani_vla.ensemble import EnsembleCfg
 
 
@@ -49,8 +49,8 @@ class EvalCfg:
     # else DEFAULT_IMAGE_SIZE.
     image_size: list[int] | None = None
     video_episodes: int = 0  # head-camera MP4s of the first k episodes of each combination
-    # Processes running blocks side by side (mobilemani_rl.process_pool), each with its own policy and an
-    # equal share of the CPU's threads; results do not depend on it, so a rerun may change it.
+    # Processes running blocks side by side (mobilemani_rl.utils.process_pool), each with its own policy and
+    # an equal share of the CPU's threads; results do not depend on it, so a rerun may change it.
     workers: int = 1
     env: EnvCfg = field(default_factory=EnvCfg)
 

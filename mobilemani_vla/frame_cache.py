@@ -22,8 +22,8 @@ from lerobot.datasets.video_utils import decode_video_frames
 from tqdm import tqdm
 
 from mobilemani_data.metadata import VIDEO_DECODE_ERRORS
-from mobilemani_rl.io import read_json
-from mobilemani_rl.registry import InputError, first_sentence
+from mobilemani_rl.utils.errors import InputError, first_sentence
+from mobilemani_rl.utils.io import read_json
 from mobilemani_vla.processor import camera_key, resize_images
 
 CACHE_DIR = "vla_cache"

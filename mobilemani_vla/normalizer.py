@@ -16,7 +16,7 @@ from pathlib import Path
 import numpy as np
 import torch
 
-from mobilemani_rl.io import read_json
+from mobilemani_rl.utils.io import read_json
 
 EPS = 1e-8
 

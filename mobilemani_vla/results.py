@@ -16,8 +16,8 @@ from pathlib import Path
 
 import numpy as np
 
-from mobilemani_rl.io import read_json
-from mobilemani_rl.writer_lock import WriterLock, busy
+from mobilemani_rl.utils.io import read_json
+from mobilemani_rl.utils.writer_lock import WriterLock, busy
 
 Key = tuple[str, str, str, str, int]
 # The paper's per-category table groups skills by their motion: grasp-and-move vs. push-to-close.

@@ -11,7 +11,7 @@ from lerobot.datasets.lerobot_dataset import LeRobotDataset
 
 from mobilemani_data import schema
 from mobilemani_data.frame import rotation_6d
-from mobilemani_rl.rotations import quat_from_euler
+from mobilemani_rl.utils.rotations import quat_from_euler
 from mobilemani_vla.config import ROBOT_ACTION_DIMS
 
 TASKS = ("open box", "pick cracker box", "open washing_machine")

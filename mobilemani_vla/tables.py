@@ -24,9 +24,9 @@ from matplotlib.axes import Axes
 from matplotlib.figure import Figure  # the object API: no pyplot backend to select, nothing global changed
 
 from mobilemani_rl.assets.objects import CATEGORIES, catalog_ids
-from mobilemani_rl.cli import entry_point
-from mobilemani_rl.io import check_writable
-from mobilemani_rl.tables import Table, pct
+from mobilemani_rl.utils.cli import entry_point
+from mobilemani_rl.utils.io import check_writable
+from mobilemani_rl.utils.table_format import Table, pct
 from mobilemani_vla.results import SKILL_GROUPS, finished, read_records, summarize
 
 ROBOTS = ("g1", "xhand")

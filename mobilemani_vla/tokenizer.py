@@ -14,7 +14,7 @@ from tokenizers import Tokenizer, normalizers, pre_tokenizers, processors
 from tokenizers.models import WordLevel
 from transformers import AutoTokenizer, PreTrainedTokenizerBase, PreTrainedTokenizerFast
 
-from mobilemani_rl.registry import MissingFileError
+from mobilemani_rl.utils.errors import MissingFileError
 
 SPECIAL_TOKENS = ("<pad>", "<eos>", "<bos>", "<unk>")
 PROMPT_WORDS = ("what", "action", "should", "the", "robot", "take", "to", "?", "in", ":", "out")

@@ -34,12 +34,11 @@ from torch.utils.data import DataLoader
 from tqdm import tqdm
 from transformers import PreTrainedTokenizerBase
 
-from mobilemani_rl.cli import entry_point
-from mobilemani_rl.io import check_writable
-from mobilemani_rl.registry import InputError, OutputExistsError, first_sentence
-from mobilemani_rl.rl.run_dir import TRAIN_LOCK
-from mobilemani_rl.schema import to_dataclass
-from mobilemani_rl.writer_lock import WriterLock, busy
+from mobilemani_rl.utils.cli import entry_point
+from mobilemani_rl.utils.config_store import to_dataclass
+from mobilemani_rl.utils.errors import InputError, OutputExistsError, first_sentence
+from mobilemani_rl.utils.io import check_writable
+from mobilemani_rl.utils.writer_lock import TRAIN_LOCK, WriterLock, busy
 from mobilemani_vla.augment import augment_images
 from mobilemani_vla.checkpoint import (
     checkpoint_dir,

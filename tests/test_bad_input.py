@@ -94,7 +94,7 @@ def test_data_values_name_their_keys_before_anything_is_written(tmp_path, overri
     ],
 )
 def test_vla_training_values_name_their_keys(override, named):
-    from mobilemani_rl.registry import InputError
+    from mobilemani_rl.utils.errors import InputError
     from mobilemani_vla.config import compose_vla_cfg
 
     with pytest.raises(InputError, match=named):
@@ -115,7 +115,7 @@ def test_vla_training_values_name_their_keys(override, named):
     ],
 )
 def test_vla_training_episodes_must_be_the_datasets(tmp_path, episodes, named):
-    from mobilemani_rl.registry import InputError
+    from mobilemani_rl.utils.errors import InputError
     from mobilemani_vla.config import compose_vla_cfg
     from mobilemani_vla.data import open_data
 
@@ -130,7 +130,7 @@ def test_non_positive_evaluation_counts_name_their_keys():
     from hydra import compose, initialize_config_dir
 
     from mobilemani_rl.envs.config import with_env_task
-    from mobilemani_rl.schema import to_dataclass
+    from mobilemani_rl.utils.config_store import to_dataclass
     from mobilemani_vla.eval_config import EvalCfg
 
     conf = str(ROOT / "conf")
@@ -153,7 +153,7 @@ def test_a_model_policy_without_a_checkpoint_names_the_key(checkpoint):
 
 def test_a_policy_setting_its_kind_does_not_read_is_refused():
     """`make eval POLICY=scripted CHECKPOINT=...` evaluated the scripted policy without a word."""
-    from mobilemani_rl.registry import InputError
+    from mobilemani_rl.utils.errors import InputError
     from mobilemani_vla.eval_config import PolicyCfg
     from mobilemani_vla.policies.factory import build_policy
 
@@ -174,8 +174,8 @@ def test_a_policy_setting_its_kind_does_not_read_is_refused():
 def test_a_fixed_action_index_outside_the_chunk_stops_before_anything_is_written(tmp_path):
     """It stopped at the first step, after the run's config.json was written."""
     from mobilemani_rl.envs.config import with_env_task
-    from mobilemani_rl.registry import InputError
-    from mobilemani_rl.schema import to_dataclass
+    from mobilemani_rl.utils.config_store import to_dataclass
+    from mobilemani_rl.utils.errors import InputError
     from mobilemani_vla.eval_config import EvalCfg
     from mobilemani_vla.evaluate import evaluate
 
@@ -211,8 +211,8 @@ def test_a_fixed_action_index_outside_the_chunk_stops_before_anything_is_written
 )
 def test_evaluation_config_names_each_bad_value(tmp_path, override, named):
     from mobilemani_rl.envs.config import with_env_task
-    from mobilemani_rl.registry import InputError
-    from mobilemani_rl.schema import to_dataclass
+    from mobilemani_rl.utils.config_store import to_dataclass
+    from mobilemani_rl.utils.errors import InputError
     from mobilemani_vla.eval_config import EvalCfg
 
     cfg = compose_root("eval", ["eval/policy=scripted", f"output_dir={tmp_path / 'out'}", override])
@@ -266,8 +266,8 @@ def test_entry_points_end_bad_input_with_one_line_and_keep_tracebacks_for_bugs(t
     import subprocess
     import sys
 
-    from mobilemani_rl.cli import entry_point
-    from mobilemani_rl.registry import InputError
+    from mobilemani_rl.utils.cli import entry_point
+    from mobilemani_rl.utils.errors import InputError
 
     @entry_point
     def bad() -> None:
@@ -298,7 +298,7 @@ def test_an_output_path_through_a_file_ends_with_one_line_naming_the_file(tmp_pa
     import subprocess
     import sys
 
-    from mobilemani_rl.cli import entry_point
+    from mobilemani_rl.utils.cli import entry_point
 
     a_file = tmp_path / "notes.txt"
     a_file.write_text("kept")
@@ -418,8 +418,8 @@ def test_command_line_tools_name_the_bad_option(module, argv, message, capsys, t
     ],
 )
 def test_rl_training_checks_its_config_before_writing_the_run_dir(tmp_path, override, named):
-    from mobilemani_rl.registry import InputError
     from mobilemani_rl.train import train
+    from mobilemani_rl.utils.errors import InputError
 
     with pytest.raises(InputError, match=named):
         train(compose_root("rl", ["rl/ppo=tiny", f"run_dir={tmp_path / 'run'}", override]))
@@ -428,7 +428,7 @@ def test_rl_training_checks_its_config_before_writing_the_run_dir(tmp_path, over
 
 def test_env_keys_that_data_and_evaluation_set_are_refused(tmp_path):
     from mobilemani_rl.envs.config import with_env_task
-    from mobilemani_rl.schema import to_dataclass
+    from mobilemani_rl.utils.config_store import to_dataclass
     from mobilemani_vla.eval_config import EvalCfg
 
     with pytest.raises(ValueError, match=r"env.seed=3 \(set it through collect.seed\)"):
@@ -461,9 +461,9 @@ def test_env_keys_that_data_and_evaluation_set_are_refused(tmp_path):
 )
 def test_env_values_are_checked_by_every_entry_point_and_the_env(tmp_path, override, named):
     from mobilemani_rl.envs.config import with_env_task
-    from mobilemani_rl.registry import InputError
-    from mobilemani_rl.schema import to_dataclass
     from mobilemani_rl.train import train
+    from mobilemani_rl.utils.config_store import to_dataclass
+    from mobilemani_rl.utils.errors import InputError
     from mobilemani_vla.eval_config import EvalCfg
 
     with pytest.raises(InputError, match=named):
@@ -507,8 +507,8 @@ def test_a_run_directory_given_as_teacher_checkpoint_names_its_newest(tmp_path):
 
 
 def test_a_changed_run_names_each_changed_key(tmp_path):
-    from mobilemani_rl.registry import ConfigMismatchError
     from mobilemani_rl.rl.run_dir import ConfigRules, save_or_check_config
+    from mobilemani_rl.utils.errors import ConfigMismatchError
 
     run_dir, rules = tmp_path / "run", ConfigRules(("rl",))
     save_or_check_config(run_dir, compose_root("rl", ["rl/ppo=tiny", f"run_dir={run_dir}"]), rules)
@@ -525,9 +525,9 @@ def test_a_resumed_run_may_move_devices_but_not_change_what_it_learns(tmp_path, 
     """Where PPO computes (device, threads, physics threads) may change between pieces of one run, e.g. a run
     started on a GPU node goes on on a laptop; the saved config keeps the first values, and any learning
     setting is refused."""
-    from mobilemani_rl.registry import ConfigMismatchError
     from mobilemani_rl.rl.run_dir import ConfigRules, save_or_check_config
     from mobilemani_rl.train import PLACEMENT_KEYS
+    from mobilemani_rl.utils.errors import ConfigMismatchError
 
     run_dir, rules = tmp_path / "run", ConfigRules(("env", "rl"), placement=PLACEMENT_KEYS)
     save_or_check_config(run_dir, compose_root("rl", ["rl/ppo=tiny", f"run_dir={run_dir}"]), rules)
@@ -552,9 +552,9 @@ def test_a_resumed_run_may_move_devices_but_not_change_what_it_learns(tmp_path, 
 def test_a_run_saved_before_a_key_existed_resumes_with_its_default(tmp_path):
     """A run started before `rl.ppo.precision` existed trained in fp32, the default: it resumes with that
     value and refuses another, naming it."""
-    from mobilemani_rl.registry import ConfigMismatchError
     from mobilemani_rl.rl.config import RLCfg
     from mobilemani_rl.rl.run_dir import ConfigRules, save_or_check_config
+    from mobilemani_rl.utils.errors import ConfigMismatchError
 
     run_dir = tmp_path / "run"
     save_or_check_config(

@@ -19,9 +19,9 @@ from mobilemani_data.export import export
 from mobilemani_data.metadata import open_dataset_metadata, read_episodes, read_export_report
 from mobilemani_data.shards import PARTIAL_SUFFIX, read_shard, shard_paths
 from mobilemani_data.validate import validate
-from mobilemani_rl.registry import ConfigMismatchError, InputError, MissingFileError
 from mobilemani_rl.tasks import select_combinations
-from mobilemani_rl.writer_lock import WriterLock
+from mobilemani_rl.utils.errors import ConfigMismatchError, InputError, MissingFileError
+from mobilemani_rl.utils.writer_lock import WriterLock
 
 # One object, both skills, both scenes: four shards.
 SUBSET = ["subset.objects=[dishwasher/0000]", "subset.episodes=2"]
@@ -130,7 +130,7 @@ def test_workers_of_a_stopped_collection_stop_and_the_rerun_fills_in_the_rest(tm
 def test_a_worker_still_starting_when_its_caller_is_killed_exits_too():
     """Killed while its workers still import (spawn), the caller leaves no worker behind: one that read its
     parent from os.getppid() after the kill waited on the dead caller's queue forever."""
-    pool_run = "import operator; from mobilemani_rl.process_pool import run_in_pool; "
+    pool_run = "import operator; from mobilemani_rl.utils.process_pool import run_in_pool; "
     pool_run += "list(run_in_pool(operator.is_, [1, 2], workers=2))"
     caller = subprocess.Popen([sys.executable, "-c", pool_run], cwd=ROOT)
     children: list[int] = []

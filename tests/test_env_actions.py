@@ -10,9 +10,9 @@ from mobilemani_rl.envs.actions import checked_actions
 from mobilemani_rl.envs.config import EnvCfg, TaskCfg
 from mobilemani_rl.envs.mobilemani_env import MobileManiEnv
 from mobilemani_rl.envs.vecenv import RslRlVecEnv
-from mobilemani_rl.registry import InputError
 from mobilemani_rl.rollout import run_first_episodes
 from mobilemani_rl.scripted import ScriptedPolicy
+from mobilemani_rl.utils.errors import InputError
 
 
 def test_checked_actions_clamp_zero_nan_and_count_them():

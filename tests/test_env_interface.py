@@ -8,8 +8,8 @@ from mobilemani_rl.envs.config import EnvCfg, TaskCfg
 from mobilemani_rl.envs.mobilemani_env import MobileManiEnv
 from mobilemani_rl.envs.multi_object import MultiObjectEnv
 from mobilemani_rl.envs.vecenv import GymVectorEnv, RslRlVecEnv
-from mobilemani_rl.registry import UnknownNameError
 from mobilemani_rl.rl.factory import policy_objects
+from mobilemani_rl.utils.errors import UnknownNameError
 
 
 @pytest.mark.parametrize(("robot", "obs_dim", "act_dim"), [("g1", 146, 7), ("xhand", 223, 18)])

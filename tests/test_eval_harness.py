@@ -17,13 +17,13 @@ from mobilemani_rl.base_frame import action_to_base
 from mobilemani_rl.envs.config import EnvCfg, TaskCfg, with_env_task
 from mobilemani_rl.envs.mobilemani_env import MobileManiEnv
 from mobilemani_rl.eval import evaluate as evaluate_teacher
-from mobilemani_rl.registry import ConfigMismatchError, InputError
 from mobilemani_rl.rl.config import RLCfg
 from mobilemani_rl.rl.run_dir import CONFIG, latest_checkpoint
 from mobilemani_rl.rollout import run_first_episodes
-from mobilemani_rl.schema import to_dataclass
 from mobilemani_rl.scripted import ScriptedPolicy
 from mobilemani_rl.train import train as train_ppo
+from mobilemani_rl.utils.config_store import to_dataclass
+from mobilemani_rl.utils.errors import ConfigMismatchError, InputError
 from mobilemani_vla.config import ROOT_ONLY, VLACfg
 from mobilemani_vla.ensemble import AdaptiveEnsembler, ChunkExecutor, EnsembleCfg, ensemble_weights
 from mobilemani_vla.eval_config import EvalCfg

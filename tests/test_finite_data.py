@@ -17,8 +17,8 @@ from mobilemani_data.export import export
 from mobilemani_data.metadata import read_episodes, read_export_report
 from mobilemani_data.shards import read_shard, shard_paths, write_shard
 from mobilemani_data.validate import validate
-from mobilemani_rl.io import non_finite
-from mobilemani_rl.registry import InputError
+from mobilemani_rl.utils.errors import InputError
+from mobilemani_rl.utils.io import non_finite
 
 # One combination (one object, skill and scene), two episodes; no replay: the finite check does not need it.
 SUBSET = [

@@ -5,7 +5,7 @@ import pytest
 
 from mobilemani_rl.envs.config import EnvCfg, TaskCfg
 from mobilemani_rl.envs.mobilemani_env import MobileManiEnv
-from mobilemani_rl.rotations import (
+from mobilemani_rl.utils.rotations import (
     axis_angle_from_quat,
     euler_from_quat,
     quat_conj,

@@ -9,7 +9,7 @@ from pathlib import Path
 
 import pytest
 
-from mobilemani_rl.registry import ConfigMismatchError, InputError, OutputExistsError
+from mobilemani_rl.utils.errors import ConfigMismatchError, InputError, OutputExistsError
 from mobilemani_vla.lerobot_train import LAST, check_arguments, continued, frame_cache_flag
 from mobilemani_vla.synthetic import write_synthetic_dataset
 

@@ -10,7 +10,7 @@ import pytest
 
 from mobilemani_rl.assets.objects import CATALOG, SPLITS, catalog_ids, check_skill, get_object, task_table
 from mobilemani_rl.assets.objects.catalog import make_object
-from mobilemani_rl.registry import UnknownNameError
+from mobilemani_rl.utils.errors import UnknownNameError
 
 EXPECTED = {  # train + test per category (docs/reference.md, "Per-category constants")
     "box": (10, 4),

@@ -6,7 +6,7 @@ import pytest
 from mobilemani_rl.envs.config import RewardWeights, SuccessCfg
 from mobilemani_rl.envs.frames import Frames
 from mobilemani_rl.envs.rewards import RewardContext, TaskDistances, grasp_flag, reward_terms, total_reward
-from mobilemani_rl.rotations import quat_from_euler
+from mobilemani_rl.utils.rotations import quat_from_euler
 
 IDENTITY = np.array([[1.0, 0.0, 0.0, 0.0]])
 # Palm pointing along world +y: +z rotated by -90° about x.

@@ -9,7 +9,7 @@ from checkout import ROOT, checkout_env
 from hydra import compose, initialize_config_dir
 
 from mobilemani_rl import teacher_tables
-from mobilemani_rl.tables import Table
+from mobilemani_rl.utils.table_format import Table
 
 
 def test_slurm_launcher_config_composes():

@@ -14,12 +14,12 @@ from checkout import ROOT, checkout_env
 from hydra import compose, initialize_config_dir
 
 from mobilemani_rl.eval import evaluate
-from mobilemani_rl.registry import ConfigMismatchError, InputError
 from mobilemani_rl.rl.factory import policy_objects
-from mobilemani_rl.rl.run_dir import TRAIN_LOCK, ConfigRules, latest_checkpoint, save_or_check_config
+from mobilemani_rl.rl.run_dir import ConfigRules, latest_checkpoint, save_or_check_config
 from mobilemani_rl.rl.runner import _shown
 from mobilemani_rl.train import train
-from mobilemani_rl.writer_lock import WriterLock
+from mobilemani_rl.utils.errors import ConfigMismatchError, InputError
+from mobilemani_rl.utils.writer_lock import TRAIN_LOCK, WriterLock
 
 
 def compose_rl(overrides: list[str]):

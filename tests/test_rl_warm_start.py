@@ -9,14 +9,14 @@ from checkout import ROOT
 from hydra import compose, initialize_config_dir
 from tensordict import TensorDict
 
-from mobilemani_rl.registry import ConfigMismatchError
 from mobilemani_rl.rl.config import RLCfg
 from mobilemani_rl.rl.factory import build_runner
 from mobilemani_rl.rl.run_dir import latest_checkpoint
 from mobilemani_rl.rl.runner import MobileManiRunner
 from mobilemani_rl.rl.warm_start import collect, discounted_returns, warm_start
-from mobilemani_rl.schema import to_dataclass
 from mobilemani_rl.train import train
+from mobilemani_rl.utils.config_store import to_dataclass
+from mobilemani_rl.utils.errors import ConfigMismatchError
 
 TINY = [
     "rl/ppo=tiny",

@@ -15,7 +15,6 @@ from payload import PlantedCode
 from mobilemani_data.collect import check_complete_shards, collect
 from mobilemani_data.teachers import build_teacher, teachable_combinations
 from mobilemani_rl.assets.objects import catalog_ids
-from mobilemani_rl.registry import ConfigMismatchError
 from mobilemani_rl.rl.run_dir import CONFIG, RESULT, latest_checkpoint
 from mobilemani_rl.tasks import Combination, select_combinations
 from mobilemani_rl.teacher import (
@@ -26,6 +25,7 @@ from mobilemani_rl.teacher import (
     trained_success,
 )
 from mobilemani_rl.train import train
+from mobilemani_rl.utils.errors import ConfigMismatchError
 
 CONF = str(ROOT / "conf")
 

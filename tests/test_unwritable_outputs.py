@@ -14,10 +14,10 @@ import pytest
 from checkout import ROOT, checkout_env
 from data_helpers import tiny_cfg
 
-import mobilemani_rl.io
-from mobilemani_rl.cli import entry_point
-from mobilemani_rl.io import check_writable
-from mobilemani_rl.registry import InputError, UnwritableOutputError
+import mobilemani_rl.utils.io
+from mobilemani_rl.utils.cli import entry_point
+from mobilemani_rl.utils.errors import InputError, UnwritableOutputError
+from mobilemani_rl.utils.io import check_writable
 
 
 def tree(root: Path) -> list[Path]:
@@ -72,7 +72,7 @@ def failing_probe(code: int, folder: Path) -> SimpleNamespace:
     ("code", "reason"), [(errno.EROFS, "Read-only file system"), (errno.EACCES, "Permission denied")]
 )
 def test_a_location_that_refuses_the_probe_is_named_with_the_reason(tmp_path, monkeypatch, code, reason):
-    monkeypatch.setattr(mobilemani_rl.io, "tempfile", failing_probe(code, tmp_path))
+    monkeypatch.setattr(mobilemani_rl.utils.io, "tempfile", failing_probe(code, tmp_path))
     with pytest.raises(UnwritableOutputError) as err:
         check_writable(tmp_path / "out" / "run", "output_dir")
     assert str(err.value) == (
@@ -152,7 +152,7 @@ def run_vla_train(out: Path, tmp: Path) -> None:
 
 def run_evaluate(out: Path, tmp: Path) -> None:
     from mobilemani_rl.envs.config import with_env_task
-    from mobilemani_rl.schema import to_dataclass
+    from mobilemani_rl.utils.config_store import to_dataclass
     from mobilemani_vla.eval_config import EvalCfg
     from mobilemani_vla.evaluate import evaluate
 
@@ -214,7 +214,7 @@ def test_every_writing_command_names_its_unwritable_output_in_one_line(
     else:
         out = workdir / "read-only"
         out.mkdir()
-        monkeypatch.setattr(mobilemani_rl.io, "tempfile", failing_probe(errno.EROFS, out))
+        monkeypatch.setattr(mobilemani_rl.utils.io, "tempfile", failing_probe(errno.EROFS, out))
         reason = f"{out} is not writable (Read-only file system)"
     before = tree(workdir)
     with pytest.raises(SystemExit) as stop:

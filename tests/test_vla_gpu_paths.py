@@ -17,7 +17,7 @@ from payload import PlantedCode
 from safetensors.torch import load_file
 from transformers import PaliGemmaForConditionalGeneration
 
-from mobilemani_rl.registry import InputError
+from mobilemani_rl.utils.errors import InputError
 from mobilemani_vla.backbone import paligemma_config
 from mobilemani_vla.checkpoint import EMA_WEIGHTS, FSDP_SHARDS, FSDP_WEIGHTS, WEIGHTS, load_checkpoint
 from mobilemani_vla.config import ModelCfg, compose_vla_cfg

@@ -12,10 +12,9 @@ from hydra import compose, initialize_config_dir
 from payload import PlantedCode
 
 from mobilemani_data import schema
-from mobilemani_rl.registry import InputError
-from mobilemani_rl.rl.run_dir import TRAIN_LOCK
-from mobilemani_rl.schema import to_dataclass
-from mobilemani_rl.writer_lock import WriterLock
+from mobilemani_rl.utils.config_store import to_dataclass
+from mobilemani_rl.utils.errors import InputError
+from mobilemani_rl.utils.writer_lock import TRAIN_LOCK, WriterLock
 from mobilemani_vla.config import ROOT_ONLY, VLACfg
 from mobilemani_vla.data import fit_normalizer, open_data
 from mobilemani_vla.frame_cache import cache_dir

@@ -12,7 +12,7 @@ from collections.abc import Callable
 from pathlib import Path
 
 from mobilemani_rl.assets.objects.catalog import CATALOG, CATEGORIES, SPLITS
-from mobilemani_rl.cli import count, entry_point, png_path
+from mobilemani_rl.utils.cli import count, entry_point, png_path
 
 
 def _configure_list(parser: argparse.ArgumentParser) -> None:

@@ -8,7 +8,8 @@ import copy
 from dataclasses import dataclass, field, fields
 
 from mobilemani_rl.envs.config import EnvCfg, EnvParamsCfg, TaskCfg, check_env_block
-from mobilemani_rl.registry import (
+from mobilemani_rl.utils.config_store import register_schema
+from mobilemani_rl.utils.errors import (
     SEED_RULE,
     InputError,
     UnknownNameError,
@@ -18,7 +19,6 @@ from mobilemani_rl.registry import (
     check_values,
     is_seed,
 )
-from mobilemani_rl.schema import register_schema
 
 LOGGERS = ("tensorboard", "wandb")
 SCHEDULES = ("adaptive", "fixed")  # rsl-rl's PPO learning-rate schedules

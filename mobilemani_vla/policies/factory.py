@@ -2,7 +2,7 @@
 
 from __future__ import annotations
 
-from mobilemani_rl.registry import InputError, check_choice
+from mobilemani_rl.utils.errors import InputError, check_choice
 from mobilemani_vla.eval_config import PolicyCfg
 from mobilemani_vla.policies.base import EvalPolicy
 

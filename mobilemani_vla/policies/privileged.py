@@ -13,7 +13,6 @@ import torch
 from tensordict import TensorDict
 
 from mobilemani_rl.envs.mobilemani_env import MobileManiEnv
-from mobilemani_rl.registry import InputError
 from mobilemani_rl.scripted import ScriptedPolicy
 from mobilemani_rl.teacher import (
     check_checkpoint_file,
@@ -22,6 +21,7 @@ from mobilemani_rl.teacher import (
     load_teacher,
     run_config,
 )
+from mobilemani_rl.utils.errors import InputError
 from mobilemani_vla.policies.base import PRIVILEGED_STATE, EvalPolicy, Observation
 
 

@@ -45,8 +45,8 @@ from mobilemani_rl.assets.robots.builder import (
 )
 from mobilemani_rl.assets.robots.description import RobotDescription
 from mobilemani_rl.assets.robots.urdf import G1_URDF, Urdf, UrdfJoint, load_urdf, quat_from_rpy
-from mobilemani_rl.rotations import quat_mul
 from mobilemani_rl.scripted_config import ScriptedPolicyCfg
+from mobilemani_rl.utils.rotations import quat_mul
 
 ARM_JOINTS = tuple(f"idx6{i}_arm_r_joint{i}" for i in range(1, 8))
 ARM_LINKS = tuple(f"arm_r_link{i}" for i in range(1, 8))

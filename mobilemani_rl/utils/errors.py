@@ -10,7 +10,7 @@ from numbers import Integral
 
 class InputError(ValueError):
     """Bad input the user can fix (a config value, a missing file): the entry points print its message alone,
-    without a traceback (mobilemani_rl.cli.entry_point)."""
+    without a traceback (mobilemani_rl.utils.cli.entry_point)."""
 
 
 def first_sentence(err: BaseException) -> str:
@@ -30,7 +30,8 @@ class OutputExistsError(InputError, FileExistsError):
 
 class UnwritableOutputError(InputError):
     """An output location this process cannot create or write (a file in the way of a folder, a read-only file
-    system, no permission): the message names it, before any work starts (mobilemani_rl.io.check_writable)."""
+    system, no permission): the message names it, before any work starts
+    (mobilemani_rl.utils.io.check_writable)."""
 
 
 class UnknownNameError(InputError):

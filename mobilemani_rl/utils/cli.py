@@ -8,7 +8,7 @@ import sys
 from collections.abc import Callable
 from pathlib import Path
 
-from mobilemani_rl.registry import InputError
+from mobilemani_rl.utils.errors import InputError
 
 
 def entry_point[T](main: Callable[..., T]) -> Callable[..., T]:

@@ -7,7 +7,9 @@ from __future__ import annotations
 import fcntl
 from pathlib import Path
 
-from mobilemani_rl.registry import InputError
+from mobilemani_rl.utils.errors import InputError
+
+TRAIN_LOCK = "train.lock"  # held in a run directory by the process training it (a PPO teacher or a VLA)
 
 
 def busy(writer: str, output: object, key: str) -> str:

@@ -13,7 +13,7 @@ from typing import Any
 from hydra.core.config_store import ConfigStore
 from omegaconf import DictConfig, OmegaConf
 
-CONF_DIR = Path(__file__).resolve().parents[1] / "conf"  # the Hydra configs every entry point composes
+CONF_DIR = Path(__file__).resolve().parents[2] / "conf"  # the Hydra configs every entry point composes
 
 
 def group_options(group: str) -> list[str]:

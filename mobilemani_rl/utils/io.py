@@ -13,8 +13,8 @@ from typing import Any
 
 import numpy as np
 
-from mobilemani_rl.cli import file_in_the_way
-from mobilemani_rl.registry import InputError, UnwritableOutputError
+from mobilemani_rl.utils.cli import file_in_the_way
+from mobilemani_rl.utils.errors import InputError, UnwritableOutputError
 
 
 def write_json_atomic(path: Path, payload: dict | list) -> None:
