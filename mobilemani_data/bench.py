@@ -21,7 +21,7 @@ from mobilemani_data.collect import collect
 from mobilemani_data.config import DataCfg
 from mobilemani_data.export import export
 from mobilemani_rl.envs.config import with_env_task
-from mobilemani_rl.tasks import SubsetCfg
+from mobilemani_rl.envs.tasks import SubsetCfg
 from mobilemani_rl.utils.cli import entry_point
 from mobilemani_rl.utils.config_store import to_dataclass
 

@@ -29,7 +29,7 @@ from mobilemani_data.recorder import collect_successes
 from mobilemani_data.shards import complete_header, write_shard
 from mobilemani_data.teachers import build_teacher, current_teacher, teachable_combinations
 from mobilemani_rl.envs.config import with_env_task
-from mobilemani_rl.tasks import Combination, select_combinations
+from mobilemani_rl.envs.tasks import Combination, select_combinations
 from mobilemani_rl.utils.cli import entry_point
 from mobilemani_rl.utils.config_store import changed_values, to_dataclass
 from mobilemani_rl.utils.errors import ConfigMismatchError

@@ -5,7 +5,7 @@ from __future__ import annotations
 from pathlib import PurePosixPath
 
 from mobilemani_data.config import ShardCfg
-from mobilemani_rl.tasks import Combination
+from mobilemani_rl.envs.tasks import Combination
 from mobilemani_rl.utils.errors import InputError
 
 

@@ -15,9 +15,9 @@ from typing import get_args
 import av
 
 from mobilemani_data import schema
-from mobilemani_rl.base_frame import Convention
+from mobilemani_rl.envs.base_frame import Convention
 from mobilemani_rl.envs.config import EnvCfg, EnvParamsCfg, RobotChoiceCfg, check_env_block
-from mobilemani_rl.tasks import SubsetCfg
+from mobilemani_rl.envs.tasks import SubsetCfg
 from mobilemani_rl.utils.config_store import register_schema
 from mobilemani_rl.utils.errors import (
     InputError,

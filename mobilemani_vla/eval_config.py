@@ -7,9 +7,9 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 from typing import get_args
 
-from mobilemani_rl.base_frame import Convention
+from mobilemani_rl.envs.base_frame import Convention
 from mobilemani_rl.envs.config import EnvCfg, EnvParamsCfg, RobotChoiceCfg, check_env_block
-from mobilemani_rl.tasks import SubsetCfg
+from mobilemani_rl.envs.tasks import SubsetCfg
 from mobilemani_rl.utils.config_store import register_schema
 from mobilemani_rl.utils.errors import check_choice, check_positive, check_torch_device, check_values
 from mobilemani_vla.ensemble import EnsembleCfg

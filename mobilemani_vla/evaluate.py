@@ -29,15 +29,15 @@ from omegaconf import DictConfig, OmegaConf
 from mobilemani_rl.assets.robots import get_robot
 from mobilemani_rl.envs.config import TaskCfg, with_env_task
 from mobilemani_rl.envs.mobilemani_env import MobileManiEnv, StepResult
-from mobilemani_rl.rollout import EpisodeStats
-from mobilemani_rl.tasks import Combination, recording_env_cfg, select_combinations
+from mobilemani_rl.envs.rollout import EpisodeStats
+from mobilemani_rl.envs.tasks import Combination, recording_env_cfg, select_combinations
+from mobilemani_rl.envs.video import HeadCameraRecorder
 from mobilemani_rl.utils.cli import entry_point
 from mobilemani_rl.utils.config_store import changed_values, to_dataclass
 from mobilemani_rl.utils.errors import ConfigMismatchError, InputError
 from mobilemani_rl.utils.io import check_writable, read_json, write_json_atomic
 from mobilemani_rl.utils.process_pool import run_in_pool
 from mobilemani_rl.utils.progress import Progress
-from mobilemani_rl.video import HeadCameraRecorder
 from mobilemani_vla.ensemble import check_action_index
 from mobilemani_vla.eval_config import DEFAULT_IMAGE_SIZE, EvalCfg
 from mobilemani_vla.harness import run_batch

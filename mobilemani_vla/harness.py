@@ -1,7 +1,7 @@
 """One evaluation batch: a policy's episodes in one env batch, through observations, chunks and the ensemble.
 
-Stepping and success accounting are mobilemani_rl.rollout's (the first episode of every env, latched success),
-so a privileged policy scored here matches its own evaluation under the same env config and seed.
+Stepping and success accounting are mobilemani_rl.envs.rollout's (the first episode of every env, latched
+success), so a privileged policy scored here matches its own evaluation under the same env config and seed.
 """
 
 from __future__ import annotations
@@ -10,9 +10,9 @@ from collections.abc import Callable
 
 import numpy as np
 
-from mobilemani_rl.base_frame import Convention, action_to_world
+from mobilemani_rl.envs.base_frame import Convention, action_to_world
 from mobilemani_rl.envs.mobilemani_env import MobileManiEnv, StepResult
-from mobilemani_rl.rollout import EpisodeStats, run_first_episodes
+from mobilemani_rl.envs.rollout import EpisodeStats, run_first_episodes
 from mobilemani_vla.ensemble import ChunkExecutor, EnsembleCfg
 from mobilemani_vla.observe import ObservationBuilder
 from mobilemani_vla.policies.base import EvalPolicy

@@ -17,7 +17,7 @@ import numpy as np
 from omegaconf import OmegaConf
 
 from mobilemani_rl.envs.mobilemani_env import StepResult
-from mobilemani_rl.tasks import Combination, select_combinations
+from mobilemani_rl.envs.tasks import Combination, select_combinations
 from mobilemani_rl.utils.config_store import to_dataclass
 from mobilemani_vla.eval_config import EvalCfg
 from mobilemani_vla.evaluate import block_env, run_block

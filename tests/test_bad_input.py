@@ -333,19 +333,19 @@ def test_an_output_path_through_a_file_ends_with_one_line_naming_the_file(tmp_pa
 @pytest.mark.parametrize(
     ("module", "argv", "message"),
     [
-        ("mobilemani_rl.render_bench", ["--sizes", "0"], "argument --sizes: must be at least 1, got 0"),
-        ("mobilemani_rl.render_bench", ["--seconds", "0"], "argument --seconds: must be above 0, got 0"),
-        ("mobilemani_rl.render_bench", ["--object", "nope/0000"], "error: unknown object 'nope/0000'"),
-        ("mobilemani_rl.bench", ["--robots", "g1", "g2"], "argument --robots: invalid choice: 'g2'"),
-        ("mobilemani_rl.bench", ["--envs", "many"], "argument --envs: invalid count value: 'many'"),
+        ("mobilemani_rl.envs.render_bench", ["--sizes", "0"], "argument --sizes: must be at least 1, got 0"),
+        ("mobilemani_rl.envs.render_bench", ["--seconds", "0"], "argument --seconds: must be above 0, got 0"),
+        ("mobilemani_rl.envs.render_bench", ["--object", "nope/0000"], "error: unknown object 'nope/0000'"),
+        ("mobilemani_rl.envs.bench", ["--robots", "g1", "g2"], "argument --robots: invalid choice: 'g2'"),
+        ("mobilemani_rl.envs.bench", ["--envs", "many"], "argument --envs: invalid count value: 'many'"),
         (
             "mobilemani_rl.rl.bench",
             ["--presets", "fast"],
             "argument --presets: invalid choice: 'fast'",
         ),
-        ("mobilemani_rl.teacher_sweep", ["--robot", "g2"], "argument --robot: invalid choice: 'g2'"),
+        ("mobilemani_rl.rl.sweep", ["--robot", "g2"], "argument --robot: invalid choice: 'g2'"),
         (
-            "mobilemani_rl.scene_sheet",
+            "mobilemani_rl.envs.scene_sheet",
             ["--out", "x.png", "--size", "-5"],
             "argument --size: must be at least 1",
         ),
@@ -360,7 +360,11 @@ def test_an_output_path_through_a_file_ends_with_one_line_naming_the_file(tmp_pa
             ["preview", "--out", "x.txt"],
             "argument --out: must name a .png file",
         ),
-        ("mobilemani_rl.scene_sheet", ["--out", "sheet"], "argument --out: must name a .png file, got sheet"),
+        (
+            "mobilemani_rl.envs.scene_sheet",
+            ["--out", "sheet"],
+            "argument --out: must name a .png file, got sheet",
+        ),
     ],
 )
 def test_command_line_tools_name_the_bad_option(module, argv, message, capsys, tmp_path, monkeypatch):
@@ -418,7 +422,7 @@ def test_command_line_tools_name_the_bad_option(module, argv, message, capsys, t
     ],
 )
 def test_rl_training_checks_its_config_before_writing_the_run_dir(tmp_path, override, named):
-    from mobilemani_rl.train import train
+    from mobilemani_rl.rl.train import train
     from mobilemani_rl.utils.errors import InputError
 
     with pytest.raises(InputError, match=named):
@@ -461,7 +465,7 @@ def test_env_keys_that_data_and_evaluation_set_are_refused(tmp_path):
 )
 def test_env_values_are_checked_by_every_entry_point_and_the_env(tmp_path, override, named):
     from mobilemani_rl.envs.config import with_env_task
-    from mobilemani_rl.train import train
+    from mobilemani_rl.rl.train import train
     from mobilemani_rl.utils.config_store import to_dataclass
     from mobilemani_rl.utils.errors import InputError
     from mobilemani_vla.eval_config import EvalCfg
@@ -491,7 +495,7 @@ def test_rl_evaluation_names_its_keys():
 
 
 def test_a_run_directory_given_as_teacher_checkpoint_names_its_newest(tmp_path):
-    from mobilemani_rl.teacher import check_checkpoint_file
+    from mobilemani_rl.rl.teacher import check_checkpoint_file
 
     run_dir = tmp_path / "run"
     run_dir.mkdir()
@@ -526,7 +530,7 @@ def test_a_resumed_run_may_move_devices_but_not_change_what_it_learns(tmp_path, 
     started on a GPU node goes on on a laptop; the saved config keeps the first values, and any learning
     setting is refused."""
     from mobilemani_rl.rl.run_dir import ConfigRules, save_or_check_config
-    from mobilemani_rl.train import PLACEMENT_KEYS
+    from mobilemani_rl.rl.train import PLACEMENT_KEYS
     from mobilemani_rl.utils.errors import ConfigMismatchError
 
     run_dir, rules = tmp_path / "run", ConfigRules(("env", "rl"), placement=PLACEMENT_KEYS)

@@ -12,7 +12,7 @@ from mobilemani_data.config import DataCfg, ShardCfg, SubsetCfg
 from mobilemani_data.convert import episode_vectors
 from mobilemani_data.shards import FRAME_KEYS, Episode
 from mobilemani_rl.envs.config import with_env_task
-from mobilemani_rl.tasks import instruction, select_combinations
+from mobilemani_rl.envs.tasks import instruction, select_combinations
 from mobilemani_rl.utils.config_store import to_dataclass
 from mobilemani_rl.utils.errors import UnknownNameError
 

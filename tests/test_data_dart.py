@@ -5,7 +5,7 @@ from data_helpers import tiny_cfg
 
 from mobilemani_data.recorder import collect_successes
 from mobilemani_data.teachers import build_teacher
-from mobilemani_rl.tasks import select_combinations
+from mobilemani_rl.envs.tasks import select_combinations
 
 
 def test_noisy_execution_records_the_clean_teacher_action(tmp_path):

@@ -16,7 +16,7 @@ from mobilemani_data.replay import Replayer
 from mobilemani_data.shards import read_shard, shard_paths
 from mobilemani_data.stats import action_roughness, dataset_stats, markdown
 from mobilemani_data.validate import validate
-from mobilemani_rl.base_frame import action_to_base
+from mobilemani_rl.envs.base_frame import action_to_base
 
 CHUNK = 16
 

@@ -19,7 +19,7 @@ from mobilemani_data.export import export
 from mobilemani_data.metadata import open_dataset_metadata, read_episodes, read_export_report
 from mobilemani_data.shards import PARTIAL_SUFFIX, read_shard, shard_paths
 from mobilemani_data.validate import validate
-from mobilemani_rl.tasks import select_combinations
+from mobilemani_rl.envs.tasks import select_combinations
 from mobilemani_rl.utils.errors import ConfigMismatchError, InputError, MissingFileError
 from mobilemani_rl.utils.writer_lock import WriterLock
 

@@ -9,9 +9,9 @@ import torch
 from mobilemani_rl.envs.actions import checked_actions
 from mobilemani_rl.envs.config import EnvCfg, TaskCfg
 from mobilemani_rl.envs.mobilemani_env import MobileManiEnv
+from mobilemani_rl.envs.rollout import run_first_episodes
 from mobilemani_rl.envs.vecenv import RslRlVecEnv
-from mobilemani_rl.rollout import run_first_episodes
-from mobilemani_rl.scripted import ScriptedPolicy
+from mobilemani_rl.scripted.policy import ScriptedPolicy
 from mobilemani_rl.utils.errors import InputError
 
 

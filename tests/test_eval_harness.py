@@ -13,15 +13,15 @@ from checkout import ROOT
 from hydra import compose, initialize_config_dir
 from omegaconf import OmegaConf
 
-from mobilemani_rl.base_frame import action_to_base
+from mobilemani_rl.envs.base_frame import action_to_base
 from mobilemani_rl.envs.config import EnvCfg, TaskCfg, with_env_task
 from mobilemani_rl.envs.mobilemani_env import MobileManiEnv
-from mobilemani_rl.eval import evaluate as evaluate_teacher
+from mobilemani_rl.envs.rollout import run_first_episodes
 from mobilemani_rl.rl.config import RLCfg
+from mobilemani_rl.rl.eval import evaluate as evaluate_teacher
 from mobilemani_rl.rl.run_dir import CONFIG, latest_checkpoint
-from mobilemani_rl.rollout import run_first_episodes
-from mobilemani_rl.scripted import ScriptedPolicy
-from mobilemani_rl.train import train as train_ppo
+from mobilemani_rl.rl.train import train as train_ppo
+from mobilemani_rl.scripted.policy import ScriptedPolicy
 from mobilemani_rl.utils.config_store import to_dataclass
 from mobilemani_rl.utils.errors import ConfigMismatchError, InputError
 from mobilemani_vla.config import ROOT_ONLY, VLACfg
@@ -165,7 +165,7 @@ def test_a_teacher_trained_on_since_is_not_counted_into_its_earlier_results(tmp_
 
 @pytest.mark.slow
 def test_trained_box_teacher_reproduces_its_success_rate():
-    """The real g1 open test/box checkpoint: 256 episodes, seed 1000, as `python -m mobilemani_rl.eval`."""
+    """The real g1 open test/box checkpoint: 256 episodes, seed 1000, as `python -m mobilemani_rl.rl.eval`."""
     checkpoint = latest_checkpoint(ROOT / "outputs/rl/g1/test/box/open")
     if checkpoint is None:
         pytest.skip(

@@ -10,7 +10,14 @@ from checkout import ROOT
 # (package or subpackage whose files are checked, module prefixes none of them may import)
 RULES = [
     ("mobilemani_rl", ("mobilemani_data", "mobilemani_vla")),
-    ("mobilemani_data", ("mobilemani_vla", "mobilemani_rl.train", "mobilemani_rl.rl")),
+    # PPO's public module for other packages is mobilemani_rl.rl.teacher (finding and loading teachers)
+    (
+        "mobilemani_data",
+        (
+            "mobilemani_vla",
+            *(f"mobilemani_rl.rl.{m}" for m in ("train", "eval", "runner", "factory", "run_dir")),
+        ),
+    ),
     ("mobilemani_rl.assets", ("mobilemani_rl.envs", "mobilemani_rl.render")),
     ("mobilemani_rl.render", ("mobilemani_rl.envs",)),
 ]

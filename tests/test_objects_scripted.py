@@ -11,7 +11,7 @@ from __future__ import annotations
 import pytest
 
 from mobilemani_rl.assets.objects import CATEGORIES, get_object
-from mobilemani_rl.scripted_table import PASS_RATE, episode_success, sample_objects
+from mobilemani_rl.scripted.table import PASS_RATE, episode_success, sample_objects
 
 KNOWN_FAILURES = {("xhand", "holistic", "pick"): "holistic/0018 below 0.6 (docs/results/fidelity.md)"}
 CASES = [

@@ -8,7 +8,7 @@ import pytest
 from checkout import ROOT, checkout_env
 from hydra import compose, initialize_config_dir
 
-from mobilemani_rl import teacher_tables
+from mobilemani_rl.rl import tables as teacher_tables
 from mobilemani_rl.utils.table_format import Table
 
 
@@ -28,7 +28,7 @@ def test_a_sweep_through_submitit_trains_one_run_per_job(tmp_path):
     command = [
         sys.executable,
         "-m",
-        "mobilemani_rl.train",
+        "mobilemani_rl.rl.train",
         "-m",
         "hydra/launcher=submitit_local",
         "task.object=box/0000,box/0001",

@@ -13,11 +13,11 @@ import torch
 from checkout import ROOT, checkout_env
 from hydra import compose, initialize_config_dir
 
-from mobilemani_rl.eval import evaluate
+from mobilemani_rl.rl.eval import evaluate
 from mobilemani_rl.rl.factory import policy_objects
 from mobilemani_rl.rl.run_dir import ConfigRules, latest_checkpoint, save_or_check_config
 from mobilemani_rl.rl.runner import _shown
-from mobilemani_rl.train import train
+from mobilemani_rl.rl.train import train
 from mobilemani_rl.utils.errors import ConfigMismatchError, InputError
 from mobilemani_rl.utils.writer_lock import TRAIN_LOCK, WriterLock
 
@@ -113,7 +113,7 @@ def test_killed_training_resumes_from_last_checkpoint(tmp_path):
     command = [
         sys.executable,
         "-m",
-        "mobilemani_rl.train",
+        "mobilemani_rl.rl.train",
         "rl/ppo=tiny",
         f"run_dir={run_dir}",
         "rl.ppo.max_iterations=8",
@@ -167,7 +167,7 @@ def test_multi_object_policy_trains_over_a_category_and_evaluates_per_split(tmp_
 
 
 def test_the_run_result_keeps_the_last_measured_success_not_a_nan():
-    from mobilemani_rl.train import last_measured_success
+    from mobilemani_rl.rl.train import last_measured_success
 
     curve = [{"success": 0.5}, {"success": 0.75}, {"success": float("nan")}]
     assert last_measured_success(curve) == 0.75

@@ -13,8 +13,8 @@ from mobilemani_rl.rl.config import RLCfg
 from mobilemani_rl.rl.factory import build_runner
 from mobilemani_rl.rl.run_dir import latest_checkpoint
 from mobilemani_rl.rl.runner import MobileManiRunner
+from mobilemani_rl.rl.train import train
 from mobilemani_rl.rl.warm_start import collect, discounted_returns, warm_start
-from mobilemani_rl.train import train
 from mobilemani_rl.utils.config_store import to_dataclass
 from mobilemani_rl.utils.errors import ConfigMismatchError
 
@@ -119,7 +119,7 @@ def test_a_finished_warm_start_survives_an_interrupt_and_an_unfinished_one_leave
     assert "warm start: fitting the critic: 100%|" in capsys.readouterr().err
     with pytest.raises(ConfigMismatchError):  # the kept warm start belongs to the saved config
         train(compose_rl([*overrides, "rl.ppo.warm_start.epochs=5"]))
-    monkeypatch.setattr("mobilemani_rl.train.warm_start", _must_not_run)
+    monkeypatch.setattr("mobilemani_rl.rl.train.warm_start", _must_not_run)
     train(compose_rl(overrides))
     assert f"resuming {run_dir} from its finished warm start (warm_start.pt)" in capsys.readouterr().out
     assert (run_dir / "result.json").exists()

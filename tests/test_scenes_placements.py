@@ -19,7 +19,7 @@ from mobilemani_rl.assets.scenes import (
 from mobilemani_rl.assets.scenes.footprint import object_footprint
 from mobilemani_rl.envs.config import PhysicsCfg, ResetCfg
 from mobilemani_rl.envs.scene import build_scene_spec
-from mobilemani_rl.scene_sheet import showcase_object
+from mobilemani_rl.envs.scene_sheet import showcase_object
 from mobilemani_rl.utils.errors import UnknownNameError
 
 ROBOT_START = (np.array([-0.25, -1.5]), np.array([0.25, -0.75]))  # robot root xy range at reset

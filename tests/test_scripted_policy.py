@@ -6,8 +6,8 @@ import pytest
 from mobilemani_rl.assets.stage import OBJECT_PREFIX
 from mobilemani_rl.envs.config import EnvCfg, TaskCfg
 from mobilemani_rl.envs.mobilemani_env import MobileManiEnv
-from mobilemani_rl.rollout import first_episode_success
-from mobilemani_rl.scripted import ScriptedPolicy
+from mobilemani_rl.envs.rollout import first_episode_success
+from mobilemani_rl.scripted.policy import ScriptedPolicy
 
 
 def scripted_success(robot: str, obj: str, skill: str, episodes: int, seed: int = 0) -> np.ndarray:

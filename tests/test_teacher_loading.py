@@ -15,16 +15,16 @@ from payload import PlantedCode
 from mobilemani_data.collect import check_complete_shards, collect
 from mobilemani_data.teachers import build_teacher, teachable_combinations
 from mobilemani_rl.assets.objects import catalog_ids
+from mobilemani_rl.envs.tasks import Combination, select_combinations
 from mobilemani_rl.rl.run_dir import CONFIG, RESULT, latest_checkpoint
-from mobilemani_rl.tasks import Combination, select_combinations
-from mobilemani_rl.teacher import (
+from mobilemani_rl.rl.teacher import (
     TeacherPolicy,
     find_teacher_checkpoint,
     load_teacher,
     teacher_run_dir,
     trained_success,
 )
-from mobilemani_rl.train import train
+from mobilemani_rl.rl.train import train
 from mobilemani_rl.utils.errors import ConfigMismatchError
 
 CONF = str(ROOT / "conf")

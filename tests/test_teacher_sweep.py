@@ -4,7 +4,7 @@ import json
 
 import pytest
 
-from mobilemani_rl import teacher_sweep
+from mobilemani_rl.rl import sweep as teacher_sweep
 from mobilemani_rl.utils.errors import ConfigMismatchError, InputError
 
 TINY = ["rl/ppo=tiny", "objects_per_policy=1", "eval_episodes=1"]

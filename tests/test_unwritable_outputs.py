@@ -114,13 +114,13 @@ def run_export(out: Path, tmp: Path) -> None:
 
 
 def run_rl_train(out: Path, tmp: Path) -> None:
-    from mobilemani_rl.train import train
+    from mobilemani_rl.rl.train import train
 
     train(compose_root("rl", ["rl/ppo=tiny", f"run_dir={out / 'run'}"]))
 
 
 def run_teacher_sweep(out: Path, tmp: Path, option: str) -> None:
-    from mobilemani_rl.teacher_sweep import main
+    from mobilemani_rl.rl.sweep import main
 
     paths = {"--runs": tmp / "runs", "--out": tmp / "tables", option: out / option[2:]}
     main(
@@ -137,7 +137,7 @@ def run_teacher_sweep(out: Path, tmp: Path, option: str) -> None:
 
 
 def run_teacher_tables(out: Path, tmp: Path) -> None:
-    from mobilemani_rl.teacher_tables import main
+    from mobilemani_rl.rl.tables import main
 
     sys.argv = ["teacher_tables", str(tmp / "runs"), "--out", str(out / "rl")]
     main.__wrapped__()
@@ -230,9 +230,9 @@ def test_every_writing_command_names_its_unwritable_output_in_one_line(
 @pytest.mark.parametrize(
     ("argv", "named", "key"),
     [
-        (["-m", "mobilemani_rl.train", "rl/ppo=tiny", "run_dir={out}/run"], "{out}/run", "run_dir"),
+        (["-m", "mobilemani_rl.rl.train", "rl/ppo=tiny", "run_dir={out}/run"], "{out}/run", "run_dir"),
         (
-            ["-m", "mobilemani_rl.teacher_sweep", "--runs", "{out}/runs", "--out", "tables"],
+            ["-m", "mobilemani_rl.rl.sweep", "--runs", "{out}/runs", "--out", "tables"],
             "{out}/runs",
             "--runs",
         ),

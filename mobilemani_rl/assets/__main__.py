@@ -2,7 +2,7 @@
 
 Commands: `list` (object counts per category and split), `preview --out PNG` (contact sheet). A command is a
 (configure parser, run) pair in COMMANDS; add new ones there. Views of every scene placement need the env:
-`python -m mobilemani_rl.scene_sheet`.
+`python -m mobilemani_rl.envs.scene_sheet`.
 """
 
 from __future__ import annotations

@@ -13,14 +13,14 @@ import torch
 from tensordict import TensorDict
 
 from mobilemani_rl.envs.mobilemani_env import MobileManiEnv
-from mobilemani_rl.scripted import ScriptedPolicy
-from mobilemani_rl.teacher import (
+from mobilemani_rl.rl.teacher import (
     check_checkpoint_file,
     find_every_teacher,
     find_teacher_checkpoint,
     load_teacher,
     run_config,
 )
+from mobilemani_rl.scripted.policy import ScriptedPolicy
 from mobilemani_rl.utils.errors import InputError
 from mobilemani_vla.policies.base import PRIVILEGED_STATE, EvalPolicy, Observation
 
@@ -32,7 +32,7 @@ class PrivilegedPolicy(EvalPolicy):
 
 
 class ScriptedEvalPolicy(PrivilegedPolicy):
-    """mobilemani_rl.scripted, which reads the task state of the env it is bound to."""
+    """mobilemani_rl.scripted.policy, which reads the task state of the env it is bound to."""
 
     name = "scripted"
 
@@ -61,7 +61,7 @@ class TeacherEvalPolicy(PrivilegedPolicy):
     """Deterministic actor of a PPO checkpoint on the privileged RL observation.
 
     `checkpoint` fixes one checkpoint; otherwise each task uses the newest model_*.pt under
-    <runs_dir>/<robot>/<object>/<skill> (the layout of mobilemani_rl.train), else under its category's run
+    <runs_dir>/<robot>/<object>/<skill> (the layout of mobilemani_rl.rl.train), else under its category's run
     <runs_dir>/<robot>/<category>/<skill>.
     """
 

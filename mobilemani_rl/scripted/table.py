@@ -1,6 +1,6 @@
 """Scripted reference policy success per category, for each robot, on a fixed sample of train objects.
 
-    python -m mobilemani_rl.scripted_table [--robots g1 xhand] [--per-category 3] [--episodes 4]
+    python -m mobilemani_rl.scripted.table [--robots g1 xhand] [--per-category 3] [--episodes 4]
 
 Each (robot, object, skill) runs `episodes` seeded episodes in one batched env; an episode succeeds if its
 latched success flag is set when it ends (the env's own success definition). Prints a
@@ -22,7 +22,7 @@ from mobilemani_rl.assets.objects import CATEGORIES, catalog_ids, get_object
 from mobilemani_rl.assets.robots import ROBOTS
 from mobilemani_rl.envs.config import EnvCfg, TaskCfg
 from mobilemani_rl.envs.mobilemani_env import MobileManiEnv
-from mobilemani_rl.scripted import ScriptedPolicy
+from mobilemani_rl.scripted.policy import ScriptedPolicy
 from mobilemani_rl.utils.cli import count, entry_point
 
 PASS_RATE = 0.6

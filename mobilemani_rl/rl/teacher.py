@@ -1,6 +1,6 @@
 """A trained PPO teacher, the one way to use it: where its run lives, its checkpoint, its deterministic actor.
 
-Evaluation (`mobilemani_rl.eval`), data collection (`mobilemani_data.teachers`) and the closed-loop harness
+Evaluation (`mobilemani_rl.rl.eval`), data collection (`mobilemani_data.teachers`) and the closed-loop harness
 (`mobilemani_vla.policies.privileged`) all load teachers through `load_teacher`; checkpoints are read with
 `weights_only=True` (`MobileManiRunner.load`), so a checkpoint file never runs code.
 """
@@ -24,7 +24,7 @@ from mobilemani_rl.utils.io import read_json
 
 
 def teacher_run_dir(runs_dir: str | Path, robot: str, object_id: str, skill: str) -> Path:
-    """<runs_dir>/<robot>/<object or category>/<skill>: where `mobilemani_rl.train` writes a task's run."""
+    """<runs_dir>/<robot>/<object or category>/<skill>: where `mobilemani_rl.rl.train` writes a task's run."""
     return Path(runs_dir) / robot / object_id / skill
 
 
@@ -40,7 +40,7 @@ def find_teacher_checkpoint(runs_dir: str | Path, robot: str, object_id: str, sk
             return found
     raise MissingFileError(
         f"no teacher checkpoint model_*.pt in {own} nor in its category's run {category} (train "
-        f"one with python -m mobilemani_rl.train robot={robot} task.object={object_id} or "
+        f"one with python -m mobilemani_rl.rl.train robot={robot} task.object={object_id} or "
         f"task.object={category_name} task.skill={skill})"
     )
 
@@ -78,7 +78,9 @@ def run_config(checkpoint: Path) -> DictConfig:
     """The config the checkpoint's run was trained with (its run directory's config.yaml)."""
     path = checkpoint.parent / CONFIG
     if not path.is_file():
-        raise MissingFileError(f"{checkpoint} has no {CONFIG} beside it; it is not a mobilemani_rl.train run")
+        raise MissingFileError(
+            f"{checkpoint} has no {CONFIG} beside it; it is not a mobilemani_rl.rl.train run"
+        )
     return OmegaConf.load(path)
 
 

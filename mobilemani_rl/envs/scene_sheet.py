@@ -1,4 +1,4 @@
-"""`MUJOCO_GL=egl python -m mobilemani_rl.scene_sheet --out sheet.png`: head and wrist views, all scenes.
+"""`MUJOCO_GL=egl python -m mobilemani_rl.envs.scene_sheet --out sheet.png`: head and wrist views, all scenes.
 
 Each placement shows one catalog object of its setting (categories in turn), posed at an episode start of the
 object's first skill. A command above the env (it builds one per scene), so not in the asset layer.
@@ -82,7 +82,7 @@ def run(args: argparse.Namespace) -> None:
 
 @entry_point
 def main(argv: list[str] | None = None) -> None:
-    parser = argparse.ArgumentParser(prog="python -m mobilemani_rl.scene_sheet", description=__doc__)
+    parser = argparse.ArgumentParser(prog="python -m mobilemani_rl.envs.scene_sheet", description=__doc__)
     configure(parser)
     run(parser.parse_args(argv))
 

@@ -1,7 +1,7 @@
 """Train a PPO teacher for one (robot, object, skill), or for a whole category (multi-object mode):
 
-    python -m mobilemani_rl.train robot=g1 task.object=test/box task.skill=open [rl/ppo=paper]
-    python -m mobilemani_rl.train robot=g1 task.object=laptop task.skill=open objects_per_policy=8
+    python -m mobilemani_rl.rl.train robot=g1 task.object=test/box task.skill=open [rl/ppo=paper]
+    python -m mobilemani_rl.rl.train robot=g1 task.object=laptop task.skill=open objects_per_policy=8
 
 Rerunning the same command resumes from the run directory's newest checkpoint with its saved config
 (or, before PPO's first checkpoint, from the finished warm start); a finished run
@@ -20,8 +20,8 @@ from pathlib import Path
 import hydra
 from omegaconf import DictConfig, OmegaConf
 
-from mobilemani_rl.eval import evaluate
 from mobilemani_rl.rl.config import PpoCfg, RLCfg
+from mobilemani_rl.rl.eval import evaluate
 from mobilemani_rl.rl.factory import build_runner
 from mobilemani_rl.rl.run_dir import (
     CURVE,
@@ -148,7 +148,7 @@ def last_measured_success(curve: list[dict]) -> float | None:
     return measured[-1] if measured else None
 
 
-@hydra.main(config_path="../conf", config_name="rl", version_base="1.3")
+@hydra.main(config_path="../../conf", config_name="rl", version_base="1.3")
 @entry_point
 def main(cfg: DictConfig) -> None:
     run_dir = train(cfg)

@@ -22,10 +22,10 @@ import mujoco
 import numpy as np
 
 from mobilemani_rl.assets.objects import ObjectKind
+from mobilemani_rl.assets.robots.scripted_tuning import ScriptedPolicyCfg
 from mobilemani_rl.envs.mobilemani_env import PALM_ROTATION_TASKS, MobileManiEnv
 from mobilemani_rl.envs.observations import normalize_to_limits
 from mobilemani_rl.envs.rewards import GRASP_DIRECTION, palm_direction, rotation_onto, rotation_to
-from mobilemani_rl.scripted_config import ScriptedPolicyCfg
 from mobilemani_rl.utils.rotations import (
     cross,
     quat_apply,

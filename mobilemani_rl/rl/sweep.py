@@ -1,13 +1,13 @@
 """A teacher for every category-skill row of a robot (the paper's teacher table), resumable:
 
-    python -m mobilemani_rl.teacher_sweep --robot g1 [--runs outputs/teachers]
+    python -m mobilemani_rl.rl.sweep --robot g1 [--runs outputs/teachers]
         [--out outputs/teachers/tables/g1] [--categories box laptop] [--skills open]
         [--skill-iterations pick:3000]
         [hydra overrides, e.g. rl.ppo.max_iterations=300]
 
 Each row trains one category-level policy on up to `objects_per_policy` of the category's train objects
-(`python -m mobilemani_rl.train robot=<robot> task.object=<category> task.skill=<skill>`) and evaluates it on
-all of the category's train and test objects (`eval_episodes` seeded episodes each). Rows run one after
+(`python -m mobilemani_rl.rl.train robot=<robot> task.object=<category> task.skill=<skill>`) and evaluates it
+on all of the category's train and test objects (`eval_episodes` seeded episodes each). Rows run one after
 another; a row whose evaluation exists is skipped, and an interrupted row resumes from its newest checkpoint
 (training's own resume), so rerunning the same command continues where it stopped; a finished row asked for
 more iterations goes on to them, and one asked for other settings stops the sweep before anything trains,
@@ -32,23 +32,23 @@ from hydra import compose, initialize_config_dir
 from omegaconf import DictConfig
 
 from mobilemani_rl.assets.objects import ALL_SKILLS, CATEGORIES
-from mobilemani_rl.eval import evaluate
 from mobilemani_rl.rl.config import RLCfg
+from mobilemani_rl.rl.eval import evaluate
 from mobilemani_rl.rl.run_dir import RESULT, WARM_START, is_complete, latest_checkpoint
-from mobilemani_rl.teacher_tables import (
+from mobilemani_rl.rl.tables import (
     PAPER_BY_SKILL,
     ROBOTS,
     rows,
     write_tables,
 )
-from mobilemani_rl.train import check_run, train
+from mobilemani_rl.rl.train import check_run, train
 from mobilemani_rl.utils.cli import entry_point
 from mobilemani_rl.utils.config_store import CONF_DIR, to_dataclass
 from mobilemani_rl.utils.errors import InputError, check_choice
 from mobilemani_rl.utils.io import check_writable, read_json, write_json_atomic
 from mobilemani_rl.utils.table_format import pct
 
-EVAL_SEED = 1000  # the seed `python -m mobilemani_rl.train eval_episodes=N` evaluates with
+EVAL_SEED = 1000  # the seed `python -m mobilemani_rl.rl.train eval_episodes=N` evaluates with
 WALL = "sweep_seconds.json"  # wall seconds of a row, summed over its finished or Ctrl-C'd attempts
 WEAKEST = 2  # test objects named in a low row's diagnosis
 
@@ -253,7 +253,7 @@ def main(argv: list[str] | None = None) -> None:
         print(f"[row {k + 1}/{len(todo)}] {args.robot} {category} {skill}: {run_dir}", flush=True)
         if check.grown or evaluation_file(run_dir) is None:
             run_row(cfg)
-        command = "python -m mobilemani_rl.train " + " ".join(row_args)
+        command = "python -m mobilemani_rl.rl.train " + " ".join(row_args)
         records.append(row_record(args.robot, category, skill, run_dir, command))
         args.out.mkdir(parents=True, exist_ok=True)
         rows_file = args.out / f"teachers_{args.robot}.json"

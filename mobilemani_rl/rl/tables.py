@@ -1,11 +1,11 @@
 """Teacher (MobileManiRL) result tables from evaluation files, laid out like the paper's Tables 2 and 6.
 
-    python -m mobilemani_rl.teacher_tables [outputs/rl] [--out outputs/tables/rl]
+    python -m mobilemani_rl.rl.tables [outputs/rl] [--out outputs/tables/rl]
 
-Collects every `eval_*.json` written by `python -m mobilemani_rl.eval` under the given directory (the newest
-per run), averages success per object, then per (category, skill group, robot) and per (skill, robot), and
-prints Markdown; `--out` also writes .md and .tex files (checked for writability before anything is read). The
-paper's numbers are shown for comparison; with no evaluation files the tables show only those, and a line
+Collects every `eval_*.json` written by `python -m mobilemani_rl.rl.eval` under the given directory (the
+newest per run), averages success per object, then per (category, skill group, robot) and per (skill, robot),
+and prints Markdown; `--out` also writes .md and .tex files (checked for writability before anything is read).
+The paper's numbers are shown for comparison; with no evaluation files the tables show only those, and a line
 names the missing input.
 """
 
@@ -143,7 +143,7 @@ def main() -> None:
     if not success:  # not an error: `make tables` goes on to the VLA tables, which may have results
         print(
             f"missing input: no teacher evaluation (eval_*.json) under {args.root}; `make rl` writes one, or "
-            "python -m mobilemani_rl.eval checkpoint=<run>/model_<it>.pt. The teacher tables hold the "
+            "python -m mobilemani_rl.rl.eval checkpoint=<run>/model_<it>.pt. The teacher tables hold the "
             "paper's numbers only."
         )
     for table in write_tables(success, args.out):

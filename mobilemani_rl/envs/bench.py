@@ -1,6 +1,6 @@
 """Environment throughput against the raw physics limit, measured in the same run.
 
-    python -m mobilemani_rl.bench [--robots g1 xhand] [--envs 64 256 1024] [--seconds 3]
+    python -m mobilemani_rl.envs.bench [--robots g1 xhand] [--envs 64 256 1024] [--seconds 3]
 
 env: `MobileManiEnv.step` with random actions (IK, physics, observations, rewards, resets).
 raw: the same compiled model in a `mujoco.batch.Batch` of the same size and thread count replaying the joint

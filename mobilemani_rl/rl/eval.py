@@ -1,7 +1,7 @@
 """Evaluate a PPO teacher checkpoint: success over N seeded episodes, reward breakdown,
 optional head-camera MP4s.
 
-    python -m mobilemani_rl.eval checkpoint=outputs/rl/g1/test/box/open/model_1499.pt [episodes=256]
+    python -m mobilemani_rl.rl.eval checkpoint=outputs/rl/g1/test/box/open/model_1499.pt [episodes=256]
         [seed=1000] [video_episodes=2]
 
 The task, env and PPO settings come from the run's saved config.yaml; each object's episodes run as one batch
@@ -23,15 +23,15 @@ from omegaconf import DictConfig, OmegaConf
 
 from mobilemani_rl.assets.objects import CATEGORIES, SPLITS, catalog_ids, get_object
 from mobilemani_rl.envs.mobilemani_env import MobileManiEnv
+from mobilemani_rl.envs.rollout import run_first_episodes
+from mobilemani_rl.envs.video import HeadCameraRecorder
 from mobilemani_rl.rl.config import EvalRlCfg, RLCfg
 from mobilemani_rl.rl.factory import policy_objects
-from mobilemani_rl.rollout import run_first_episodes
-from mobilemani_rl.teacher import TeacherPolicy, check_checkpoint_file, load_teacher, run_config
+from mobilemani_rl.rl.teacher import TeacherPolicy, check_checkpoint_file, load_teacher, run_config
 from mobilemani_rl.utils.cli import entry_point
 from mobilemani_rl.utils.config_store import to_dataclass
 from mobilemani_rl.utils.io import write_json_atomic
 from mobilemani_rl.utils.progress import Progress
-from mobilemani_rl.video import HeadCameraRecorder
 
 
 def evaluation_objects(task_object: str) -> dict[str, list[str]]:
@@ -92,7 +92,7 @@ def evaluate(checkpoint: Path, episodes: int, seed: int, video_episodes: int = 0
     return result
 
 
-@hydra.main(config_path="../conf", config_name="eval_rl", version_base="1.3")
+@hydra.main(config_path="../../conf", config_name="eval_rl", version_base="1.3")
 @entry_point
 def main(cfg: DictConfig) -> None:
     run = to_dataclass(cfg, EvalRlCfg).check()

@@ -1,4 +1,5 @@
-"""`MUJOCO_GL=egl python -m mobilemani_rl.render_bench`: camera rendering throughput in a realistic scene.
+"""`MUJOCO_GL=egl python -m mobilemani_rl.envs.render_bench`: camera rendering throughput in a realistic
+scene.
 
 Per size: frames/s of `CameraRenderer` producing 2 cameras x (RGB + depth + segmentation), and the raw
 `mujoco.Renderer` rate (`update_scene` + `render`, RGB only, one camera) on the same model, state, size and
@@ -64,7 +65,7 @@ def bench_size(model: mujoco.MjModel, data: mujoco.MjData, cfg: CameraRenderCfg,
 
 @entry_point
 def main(argv: list[str] | None = None) -> None:
-    parser = argparse.ArgumentParser(prog="python -m mobilemani_rl.render_bench", description=__doc__)
+    parser = argparse.ArgumentParser(prog="python -m mobilemani_rl.envs.render_bench", description=__doc__)
     parser.add_argument("--scene", default="tabletop/02")
     parser.add_argument("--object", default="test/box")
     parser.add_argument("--robot", default="g1", choices=sorted(ROBOTS))

@@ -1,6 +1,7 @@
-"""Tuning of the scripted reference policy (mobilemani_rl.scripted). Each robot's description holds its own
-(RobotDescription.scripted); docs/results/fidelity.md says why each value is what it is and what it
-measured. A module of its own: the robot descriptions cannot import the policy, which imports the env.
+"""Tuning of the scripted reference policy (mobilemani_rl.scripted.policy). Each robot's description holds its
+own (RobotDescription.scripted); docs/results/fidelity.md says why each value is what it is and what it
+measured. It lives beside the robot descriptions, not the policy: the assets cannot import the policy, which
+imports the env.
 """
 
 from __future__ import annotations
