@@ -107,7 +107,7 @@ TABLES ?= outputs/tables
 MAIN_RUN ?= default
 tables: setup
 	$(PY) -m mobilemani_rl.rl.tables $(RL_RUNS) --out $(TABLES)/rl
-	$(PY) -m mobilemani_vla.tables $(EVAL_RESULTS) --out $(TABLES)/vla --main $(MAIN_RUN)
+	$(PY) -m mobilemani_vla.eval.tables $(EVAL_RESULTS) --out $(TABLES)/vla --main $(MAIN_RUN)
 
 # Closed-loop evaluation (Hydra root conf/eval.yaml): make eval ROBOT=g1 CHECKPOINT=<VLA checkpoint dir>
 #   [POLICY=vla|lerobot|teacher|scripted|random PROTOCOL=paper|ablation|small SPLIT=unseen_unseen|seen_unseen|.. NAME=..
@@ -118,7 +118,7 @@ SPLIT ?= unseen_unseen
 WORKERS ?= 1
 EVAL_ARGS ?=
 eval: setup
-	$(PY) -m mobilemani_vla.evaluate robot=$(ROBOT) eval/policy=$(POLICY) eval/protocol=$(PROTOCOL) eval/split=$(SPLIT) \
+	$(PY) -m mobilemani_vla.eval.evaluate robot=$(ROBOT) eval/policy=$(POLICY) eval/protocol=$(PROTOCOL) eval/split=$(SPLIT) \
 		workers=$(WORKERS) $(if $(CHECKPOINT),policy.checkpoint=$(CHECKPOINT)) $(if $(NAME),name=$(NAME)) $(EVAL_ARGS)
 
 # VLA training (Hydra root conf/vla.yaml): make vla ROBOT=g1 [EXPERIMENT=ablation_image_head_rgb]

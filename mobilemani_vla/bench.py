@@ -23,10 +23,10 @@ import torch
 from mobilemani_rl.utils.cli import count, entry_point
 from mobilemani_rl.utils.config_store import group_options
 from mobilemani_vla.config import CAMERAS, VLACfg, compose_vla_cfg
-from mobilemani_vla.data import fit_normalizer, open_data
-from mobilemani_vla.model import MobileManiVLA, build_model
-from mobilemani_vla.processor import STATE_DIMS, VLAProcessor
-from mobilemani_vla.tokenizer import build_word_tokenizer
+from mobilemani_vla.data.dataset import fit_normalizer, open_data
+from mobilemani_vla.model.network import MobileManiVLA, build_model
+from mobilemani_vla.model.processor import STATE_DIMS, VLAProcessor
+from mobilemani_vla.model.tokenizer import build_word_tokenizer
 from mobilemani_vla.train import adamw
 
 

@@ -39,7 +39,6 @@ from mobilemani_rl.utils.config_store import to_dataclass
 from mobilemani_rl.utils.errors import InputError, OutputExistsError, first_sentence
 from mobilemani_rl.utils.io import check_writable
 from mobilemani_rl.utils.writer_lock import TRAIN_LOCK, WriterLock, busy
-from mobilemani_vla.augment import augment_images
 from mobilemani_vla.checkpoint import (
     checkpoint_dir,
     checkpoint_step,
@@ -52,12 +51,13 @@ from mobilemani_vla.checkpoint import (
     unreadable_weights,
 )
 from mobilemani_vla.config import ROOT_ONLY, TrainCfg, VLACfg, vla_cfg_from_yaml
-from mobilemani_vla.data import fit_normalizer, open_data, open_metadata
+from mobilemani_vla.data.augment import augment_images
+from mobilemani_vla.data.dataset import fit_normalizer, open_data, open_metadata
 from mobilemani_vla.diagnostics import diagnose, heldout_batch
-from mobilemani_vla.model import MobileManiVLA, build_model
-from mobilemani_vla.normalizer import Normalizer
-from mobilemani_vla.processor import VLAProcessor
-from mobilemani_vla.tokenizer import load_tokenizer
+from mobilemani_vla.model.network import MobileManiVLA, build_model
+from mobilemani_vla.model.normalizer import Normalizer
+from mobilemani_vla.model.processor import VLAProcessor
+from mobilemani_vla.model.tokenizer import load_tokenizer
 
 
 @dataclass

@@ -19,10 +19,10 @@ from omegaconf import OmegaConf
 from mobilemani_rl.envs.mobilemani_env import StepResult
 from mobilemani_rl.envs.tasks import Combination, select_combinations
 from mobilemani_rl.utils.config_store import to_dataclass
-from mobilemani_vla.eval_config import EvalCfg
-from mobilemani_vla.evaluate import block_env, run_block
-from mobilemani_vla.policies.base import EvalPolicy
-from mobilemani_vla.policies.factory import build_policy
+from mobilemani_vla.eval.config import EvalCfg
+from mobilemani_vla.eval.evaluate import block_env, run_block
+from mobilemani_vla.eval.policies.base import EvalPolicy
+from mobilemani_vla.eval.policies.factory import build_policy
 
 
 def closest_in_first_batch(cfg: EvalCfg, policy: EvalPolicy, combo: Combination) -> dict:

@@ -13,7 +13,7 @@ from mobilemani_data.metadata import check_dataset_files
 from mobilemani_data.validate import validate
 from mobilemani_rl.envs.config import EnvCfg
 from mobilemani_rl.envs.mobilemani_env import MobileManiEnv
-from mobilemani_vla.synthetic import write_synthetic_dataset
+from mobilemani_vla.data.synthetic import write_synthetic_dataset
 
 
 def test_non_positive_counts_name_their_keys(tmp_path):
@@ -117,7 +117,7 @@ def test_vla_training_values_name_their_keys(override, named):
 def test_vla_training_episodes_must_be_the_datasets(tmp_path, episodes, named):
     from mobilemani_rl.utils.errors import InputError
     from mobilemani_vla.config import compose_vla_cfg
-    from mobilemani_vla.data import open_data
+    from mobilemani_vla.data.dataset import open_data
 
     root = write_synthetic_dataset(tmp_path / "g1", episodes=3, length=5)
     cfg = compose_vla_cfg([f"data.root={root}", "data.repo_id=synthetic/g1", "data.heldout_episodes=0"])
@@ -131,7 +131,7 @@ def test_non_positive_evaluation_counts_name_their_keys():
 
     from mobilemani_rl.envs.config import with_env_task
     from mobilemani_rl.utils.config_store import to_dataclass
-    from mobilemani_vla.eval_config import EvalCfg
+    from mobilemani_vla.eval.config import EvalCfg
 
     conf = str(ROOT / "conf")
     with initialize_config_dir(config_dir=conf, version_base="1.3"):
@@ -142,8 +142,8 @@ def test_non_positive_evaluation_counts_name_their_keys():
 
 @pytest.mark.parametrize("checkpoint", [None, ""])  # "": `policy.checkpoint=` on the command line
 def test_a_model_policy_without_a_checkpoint_names_the_key(checkpoint):
-    from mobilemani_vla.eval_config import PolicyCfg
-    from mobilemani_vla.policies.factory import build_policy
+    from mobilemani_vla.eval.config import PolicyCfg
+    from mobilemani_vla.eval.policies.factory import build_policy
 
     for kind in ("vla", "lerobot"):
         with pytest.raises(ValueError, match=f"policy.kind={kind} needs policy.checkpoint="):
@@ -154,8 +154,8 @@ def test_a_model_policy_without_a_checkpoint_names_the_key(checkpoint):
 def test_a_policy_setting_its_kind_does_not_read_is_refused():
     """`make eval POLICY=scripted CHECKPOINT=...` evaluated the scripted policy without a word."""
     from mobilemani_rl.utils.errors import InputError
-    from mobilemani_vla.eval_config import PolicyCfg
-    from mobilemani_vla.policies.factory import build_policy
+    from mobilemani_vla.eval.config import PolicyCfg
+    from mobilemani_vla.eval.policies.factory import build_policy
 
     for kind in ("scripted", "random"):
         with pytest.raises(
@@ -176,8 +176,8 @@ def test_a_fixed_action_index_outside_the_chunk_stops_before_anything_is_written
     from mobilemani_rl.envs.config import with_env_task
     from mobilemani_rl.utils.config_store import to_dataclass
     from mobilemani_rl.utils.errors import InputError
-    from mobilemani_vla.eval_config import EvalCfg
-    from mobilemani_vla.evaluate import evaluate
+    from mobilemani_vla.eval.config import EvalCfg
+    from mobilemani_vla.eval.evaluate import evaluate
 
     cfg = compose_root(
         "eval",
@@ -213,7 +213,7 @@ def test_evaluation_config_names_each_bad_value(tmp_path, override, named):
     from mobilemani_rl.envs.config import with_env_task
     from mobilemani_rl.utils.config_store import to_dataclass
     from mobilemani_rl.utils.errors import InputError
-    from mobilemani_vla.eval_config import EvalCfg
+    from mobilemani_vla.eval.config import EvalCfg
 
     cfg = compose_root("eval", ["eval/policy=scripted", f"output_dir={tmp_path / 'out'}", override])
     with pytest.raises(InputError, match=named):
@@ -236,9 +236,9 @@ def test_a_deleted_dataset_file_is_named(tmp_path):
 
 
 def test_a_checkpoint_from_an_older_dataset_layout_is_refused_by_name():
-    from mobilemani_vla.normalizer import Normalizer
-    from mobilemani_vla.processor import VLAProcessor
-    from mobilemani_vla.tokenizer import build_word_tokenizer
+    from mobilemani_vla.model.normalizer import Normalizer
+    from mobilemani_vla.model.processor import VLAProcessor
+    from mobilemani_vla.model.tokenizer import build_word_tokenizer
 
     old_bounds = Normalizer(
         {"action": ([-1.0] * 7, [1.0] * 7), "observation.wrist_pose_base": ([-1.0] * 9, [1.0] * 9)}
@@ -256,7 +256,7 @@ def compose_root(name: str, overrides: list[str]):
     from hydra import compose, initialize_config_dir
 
     import mobilemani_rl.rl.config  # noqa: F401
-    import mobilemani_vla.eval_config  # noqa: F401
+    import mobilemani_vla.eval.config  # noqa: F401
 
     with initialize_config_dir(config_dir=str(ROOT / "conf"), version_base="1.3"):
         return compose(config_name=name, overrides=overrides)
@@ -433,7 +433,7 @@ def test_rl_training_checks_its_config_before_writing_the_run_dir(tmp_path, over
 def test_env_keys_that_data_and_evaluation_set_are_refused(tmp_path):
     from mobilemani_rl.envs.config import with_env_task
     from mobilemani_rl.utils.config_store import to_dataclass
-    from mobilemani_vla.eval_config import EvalCfg
+    from mobilemani_vla.eval.config import EvalCfg
 
     with pytest.raises(ValueError, match=r"env.seed=3 \(set it through collect.seed\)"):
         tiny_cfg(tmp_path, "env.seed=3")
@@ -468,7 +468,7 @@ def test_env_values_are_checked_by_every_entry_point_and_the_env(tmp_path, overr
     from mobilemani_rl.rl.train import train
     from mobilemani_rl.utils.config_store import to_dataclass
     from mobilemani_rl.utils.errors import InputError
-    from mobilemani_vla.eval_config import EvalCfg
+    from mobilemani_vla.eval.config import EvalCfg
 
     with pytest.raises(InputError, match=named):
         train(compose_root("rl", ["rl/ppo=tiny", f"run_dir={tmp_path / 'run'}", override]))

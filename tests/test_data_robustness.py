@@ -234,7 +234,7 @@ def test_corrupt_shard_is_named_and_the_rest_exports(tmp_path, capsys):
 
 def test_a_video_cut_short_is_named_by_validation_and_by_the_frame_cache(tmp_path):
     """Both ended in a decoder's traceback (LeRobot's FrameTimestampError, PyAV's InvalidDataError)."""
-    from mobilemani_vla.frame_cache import cached_images
+    from mobilemani_vla.data.frame_cache import cached_images
 
     cfg = tiny_cfg(tmp_path, "subset.objects=[dishwasher/0000]", "subset.skills=[open]", "subset.episodes=1")
     collect(cfg)

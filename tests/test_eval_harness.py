@@ -25,13 +25,13 @@ from mobilemani_rl.scripted.policy import ScriptedPolicy
 from mobilemani_rl.utils.config_store import to_dataclass
 from mobilemani_rl.utils.errors import ConfigMismatchError, InputError
 from mobilemani_vla.config import ROOT_ONLY, VLACfg
-from mobilemani_vla.ensemble import AdaptiveEnsembler, ChunkExecutor, EnsembleCfg, ensemble_weights
-from mobilemani_vla.eval_config import EvalCfg
-from mobilemani_vla.evaluate import evaluate
-from mobilemani_vla.harness import run_batch
-from mobilemani_vla.policies.privileged import RandomPolicy, ScriptedEvalPolicy, TeacherEvalPolicy
-from mobilemani_vla.results import ResultsFile, read_records, record_key
-from mobilemani_vla.synthetic import write_synthetic_dataset
+from mobilemani_vla.data.synthetic import write_synthetic_dataset
+from mobilemani_vla.eval.config import EvalCfg
+from mobilemani_vla.eval.evaluate import evaluate
+from mobilemani_vla.eval.harness import run_batch
+from mobilemani_vla.eval.policies.privileged import RandomPolicy, ScriptedEvalPolicy, TeacherEvalPolicy
+from mobilemani_vla.eval.results import ResultsFile, read_records, record_key
+from mobilemani_vla.model.ensemble import AdaptiveEnsembler, ChunkExecutor, EnsembleCfg, ensemble_weights
 from mobilemani_vla.train import train as train_vla
 
 CONF = str(ROOT / "conf")
@@ -224,7 +224,13 @@ def test_a_second_evaluation_under_the_same_name_stops_instead_of_appending_twic
 def test_a_killed_evaluation_reruns_to_exact_counts(tmp_path):
     """kill -9 after the first block: the rerun gets the lock the dead run held, runs only the missing
     episodes, and the results hold each episode once."""
-    command = [sys.executable, "-m", "mobilemani_vla.evaluate", "eval/policy=random", "eval/protocol=small"]
+    command = [
+        sys.executable,
+        "-m",
+        "mobilemani_vla.eval.evaluate",
+        "eval/policy=random",
+        "eval/protocol=small",
+    ]
     command += ["episodes_per_batch=1", f"output_dir={tmp_path}"]
     path = tmp_path / "g1" / "default" / "test_objects_test_scenes.jsonl"
     run = subprocess.Popen(command, cwd=ROOT, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)

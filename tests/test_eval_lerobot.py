@@ -13,11 +13,11 @@ from checkout import ROOT, checkout_env
 from mobilemani_data import schema
 from mobilemani_rl.envs.config import EnvCfg, TaskCfg
 from mobilemani_rl.envs.mobilemani_env import MobileManiEnv
-from mobilemani_vla.ensemble import EnsembleCfg
-from mobilemani_vla.harness import run_batch
-from mobilemani_vla.policies.lerobot import LeRobotEvalPolicy
+from mobilemani_vla.data.synthetic import write_synthetic_dataset
+from mobilemani_vla.eval.harness import run_batch
+from mobilemani_vla.eval.policies.lerobot import LeRobotEvalPolicy
+from mobilemani_vla.model.ensemble import EnsembleCfg
 from mobilemani_vla.smolvla_backbone import write_smolvlm_backbone
-from mobilemani_vla.synthetic import write_synthetic_dataset
 
 HEAD_RGB = schema.image_key("head", "rgb")
 

@@ -3,9 +3,9 @@
 import json
 from pathlib import Path
 
-from mobilemani_vla import tables as vla_tables
-from mobilemani_vla.results import read_records, summarize, summary_path
-from mobilemani_vla.tables import PROTOCOL_SPLIT, bar_plots, build_tables, load
+from mobilemani_vla.eval import tables as vla_tables
+from mobilemani_vla.eval.results import read_records, summarize, summary_path
+from mobilemani_vla.eval.tables import PROTOCOL_SPLIT, bar_plots, build_tables, load
 
 
 def write_run(

@@ -118,7 +118,7 @@ def test_validate_names_the_file_episode_key_and_frame_of_a_non_finite_dataset_v
 
 @pytest.fixture(scope="module")
 def synthetic(tmp_path_factory) -> Path:
-    from mobilemani_vla.synthetic import write_synthetic_dataset
+    from mobilemani_vla.data.synthetic import write_synthetic_dataset
 
     return write_synthetic_dataset(tmp_path_factory.mktemp("vla") / "g1", episodes=2, length=6)
 
@@ -133,7 +133,7 @@ def vla_cfg(root: Path, out: Path):
 
 @pytest.mark.parametrize(("key", "value"), [("action", np.nan), ("observation.state", -np.inf)])
 def test_vla_training_refuses_non_finite_frames_before_it_starts(synthetic, tmp_path, key, value):
-    from mobilemani_vla.data import open_data
+    from mobilemani_vla.data.dataset import open_data
     from mobilemani_vla.train import train
 
     root = tmp_path / "g1"
@@ -150,7 +150,7 @@ def test_vla_training_refuses_non_finite_frames_before_it_starts(synthetic, tmp_
 
 
 def test_vla_normalisation_statistics_refuse_non_finite_values(synthetic):
-    from mobilemani_vla.data import FrameTable, fit_normalizer, open_metadata, vector_keys
+    from mobilemani_vla.data.dataset import FrameTable, fit_normalizer, open_metadata, vector_keys
 
     cfg = vla_cfg(synthetic, Path("unused"))
     table = FrameTable.read(open_metadata(cfg), vector_keys(cfg.inputs.states))

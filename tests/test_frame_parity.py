@@ -24,9 +24,9 @@ from mobilemani_data.export import export
 from mobilemani_data.teachers import Teacher, build_teacher
 from mobilemani_vla.config import STATES, InputsCfg, VLACfg
 from mobilemani_vla.config import DataCfg as VLADataCfg
-from mobilemani_vla.data import fit_normalizer, open_data
-from mobilemani_vla.observe import IMAGE_KEYS, ObservationBuilder
-from mobilemani_vla.policies.base import ACTIVE, TASK
+from mobilemani_vla.data.dataset import fit_normalizer, open_data
+from mobilemani_vla.eval.observe import IMAGE_KEYS, ObservationBuilder
+from mobilemani_vla.eval.policies.base import ACTIVE, TASK
 
 VECTORS = (schema.STATE, schema.WORLD_STATE, schema.GRASP_POINT_BASE, schema.GOAL_POINT_BASE)
 SIZE = 64

@@ -8,8 +8,8 @@ import torch
 from lerobot.datasets.lerobot_dataset import LeRobotDataset
 
 from mobilemani_data import schema
-from mobilemani_vla.lerobot_frames import served_from_frame_cache
-from mobilemani_vla.synthetic import write_synthetic_dataset
+from mobilemani_vla.data.lerobot_frames import served_from_frame_cache
+from mobilemani_vla.data.synthetic import write_synthetic_dataset
 
 
 def open_dataset(root: Path) -> LeRobotDataset:

@@ -10,8 +10,8 @@ from pathlib import Path
 import pytest
 
 from mobilemani_rl.utils.errors import ConfigMismatchError, InputError, OutputExistsError
+from mobilemani_vla.data.synthetic import write_synthetic_dataset
 from mobilemani_vla.lerobot_train import LAST, check_arguments, continued, frame_cache_flag
-from mobilemani_vla.synthetic import write_synthetic_dataset
 
 
 def test_frame_cache_flag_is_taken_out_of_lerobots_arguments():

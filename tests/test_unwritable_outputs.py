@@ -29,7 +29,7 @@ def compose_root(name: str, overrides: list[str]):
     from hydra import compose, initialize_config_dir
 
     import mobilemani_rl.rl.config  # noqa: F401
-    import mobilemani_vla.eval_config  # noqa: F401
+    import mobilemani_vla.eval.config  # noqa: F401
 
     with initialize_config_dir(config_dir=str(ROOT / "conf"), version_base="1.3"):
         return compose(config_name=name, overrides=overrides)
@@ -153,15 +153,15 @@ def run_vla_train(out: Path, tmp: Path) -> None:
 def run_evaluate(out: Path, tmp: Path) -> None:
     from mobilemani_rl.envs.config import with_env_task
     from mobilemani_rl.utils.config_store import to_dataclass
-    from mobilemani_vla.eval_config import EvalCfg
-    from mobilemani_vla.evaluate import evaluate
+    from mobilemani_vla.eval.config import EvalCfg
+    from mobilemani_vla.eval.evaluate import evaluate
 
     overrides = ["eval/policy=scripted", "eval/protocol=small", f"output_dir={out / 'eval'}", "name=probe"]
     evaluate(to_dataclass(with_env_task(compose_root("eval", overrides)), EvalCfg).check())
 
 
 def run_vla_tables(out: Path, tmp: Path) -> None:
-    from mobilemani_vla.tables import main
+    from mobilemani_vla.eval.tables import main
 
     sys.argv = ["tables", str(tmp / "eval"), "--out", str(out / "vla")]
     main.__wrapped__()

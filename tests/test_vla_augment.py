@@ -3,7 +3,7 @@ colour jitter leaves depth alone."""
 
 import torch
 
-from mobilemani_vla.augment import AugmentCfg, augment_images, jitter_colour, shift_images
+from mobilemani_vla.data.augment import AugmentCfg, augment_images, jitter_colour, shift_images
 
 CAMERAS = ["head_rgb", "head_depth", "wrist_rgb", "wrist_depth"]
 

@@ -18,13 +18,13 @@ from safetensors.torch import load_file
 from transformers import PaliGemmaForConditionalGeneration
 
 from mobilemani_rl.utils.errors import InputError
-from mobilemani_vla.backbone import paligemma_config
 from mobilemani_vla.checkpoint import EMA_WEIGHTS, FSDP_SHARDS, FSDP_WEIGHTS, WEIGHTS, load_checkpoint
 from mobilemani_vla.config import ModelCfg, compose_vla_cfg
-from mobilemani_vla.model import build_model
-from mobilemani_vla.policies.vla import VLAEvalPolicy
-from mobilemani_vla.synthetic import write_synthetic_dataset
-from mobilemani_vla.tokenizer import build_word_tokenizer, load_tokenizer
+from mobilemani_vla.data.synthetic import write_synthetic_dataset
+from mobilemani_vla.eval.policies.vla import VLAEvalPolicy
+from mobilemani_vla.model.backbone import paligemma_config
+from mobilemani_vla.model.network import build_model
+from mobilemani_vla.model.tokenizer import build_word_tokenizer, load_tokenizer
 from mobilemani_vla.train import check_main_process_features, train
 
 

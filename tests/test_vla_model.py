@@ -5,13 +5,13 @@ import pytest
 import torch
 from transformers.models.paligemma.modeling_paligemma import PaliGemmaModel, create_causal_mask_mapping
 
-from mobilemani_vla.backbone import CognitionBackbone, paligemma_config, prefix_lm_masks
 from mobilemani_vla.config import ModelCfg, VLACfg, compose_vla_cfg
-from mobilemani_vla.diffusion import make_scheduler
-from mobilemani_vla.dit import DiT
-from mobilemani_vla.model import build_model
-from mobilemani_vla.normalizer import Normalizer
-from mobilemani_vla.tokenizer import build_word_tokenizer, load_tokenizer
+from mobilemani_vla.model.backbone import CognitionBackbone, paligemma_config, prefix_lm_masks
+from mobilemani_vla.model.diffusion import make_scheduler
+from mobilemani_vla.model.dit import DiT
+from mobilemani_vla.model.network import build_model
+from mobilemani_vla.model.normalizer import Normalizer
+from mobilemani_vla.model.tokenizer import build_word_tokenizer, load_tokenizer
 
 
 def count(module: torch.nn.Module) -> int:

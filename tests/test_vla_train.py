@@ -16,13 +16,13 @@ from mobilemani_rl.utils.config_store import to_dataclass
 from mobilemani_rl.utils.errors import InputError
 from mobilemani_rl.utils.writer_lock import TRAIN_LOCK, WriterLock
 from mobilemani_vla.config import ROOT_ONLY, VLACfg
-from mobilemani_vla.data import fit_normalizer, open_data
-from mobilemani_vla.frame_cache import cache_dir
-from mobilemani_vla.model import build_model
-from mobilemani_vla.policy import VLAPolicy
-from mobilemani_vla.processor import VLAProcessor, camera_key, resize_images
-from mobilemani_vla.synthetic import write_synthetic_dataset
-from mobilemani_vla.tokenizer import build_word_tokenizer
+from mobilemani_vla.data.dataset import fit_normalizer, open_data
+from mobilemani_vla.data.frame_cache import cache_dir
+from mobilemani_vla.data.synthetic import write_synthetic_dataset
+from mobilemani_vla.inference import VLAPolicy
+from mobilemani_vla.model.network import build_model
+from mobilemani_vla.model.processor import VLAProcessor, camera_key, resize_images
+from mobilemani_vla.model.tokenizer import build_word_tokenizer
 from mobilemani_vla.train import train
 
 CONF = str(ROOT / "conf")
@@ -114,7 +114,7 @@ def test_forward_backward_on_a_dataset_batch(dataset_root, tmp_path):
 def test_the_evaluators_batch_gives_the_model_what_training_frames_give():
     """The evaluator hands the processor one (B, H, W, 3) uint8 view per camera; training, one float frame per
     sample. The model inputs must be the same, bit for bit."""
-    from mobilemani_vla.normalizer import Normalizer
+    from mobilemani_vla.model.normalizer import Normalizer
 
     cameras, states = ["head_rgb", "wrist_depth"], ["wrist_pose", "grasp_point"]
     bounds = {schema.ACTION: ([-1.0] * 7, [1.0] * 7), schema.STATE: ([-2.0] * 10, [2.0] * 10)}

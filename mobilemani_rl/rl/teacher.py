@@ -1,8 +1,8 @@
 """A trained PPO teacher, the one way to use it: where its run lives, its checkpoint, its deterministic actor.
 
 Evaluation (`mobilemani_rl.rl.eval`), data collection (`mobilemani_data.teachers`) and the closed-loop harness
-(`mobilemani_vla.policies.privileged`) all load teachers through `load_teacher`; checkpoints are read with
-`weights_only=True` (`MobileManiRunner.load`), so a checkpoint file never runs code.
+(`mobilemani_vla.eval.policies.privileged`) all load teachers through `load_teacher`; checkpoints are read
+with `weights_only=True` (`MobileManiRunner.load`), so a checkpoint file never runs code.
 """
 
 from __future__ import annotations

@@ -17,7 +17,7 @@ from transformers import PreTrainedTokenizerBase
 
 from mobilemani_data import schema
 from mobilemani_vla.config import VLACfg
-from mobilemani_vla.normalizer import Normalizer
+from mobilemani_vla.model.normalizer import Normalizer
 
 # Each state input -> (the dataset feature holding it, its part of that feature). Normalisation bounds are per
 # feature, so a part is normalised with its feature's bounds.

@@ -24,7 +24,7 @@ from tqdm import tqdm
 from mobilemani_data.metadata import VIDEO_DECODE_ERRORS
 from mobilemani_rl.utils.errors import InputError, first_sentence
 from mobilemani_rl.utils.io import read_json
-from mobilemani_vla.processor import camera_key, resize_images
+from mobilemani_vla.model.processor import camera_key, resize_images
 
 CACHE_DIR = "vla_cache"
 MANIFEST = "manifest.json"

@@ -13,9 +13,9 @@ import numpy as np
 from mobilemani_rl.envs.base_frame import Convention, action_to_world
 from mobilemani_rl.envs.mobilemani_env import MobileManiEnv, StepResult
 from mobilemani_rl.envs.rollout import EpisodeStats, run_first_episodes
-from mobilemani_vla.ensemble import ChunkExecutor, EnsembleCfg
-from mobilemani_vla.observe import ObservationBuilder
-from mobilemani_vla.policies.base import EvalPolicy
+from mobilemani_vla.eval.observe import ObservationBuilder
+from mobilemani_vla.eval.policies.base import EvalPolicy
+from mobilemani_vla.model.ensemble import ChunkExecutor, EnsembleCfg
 
 
 def run_batch(

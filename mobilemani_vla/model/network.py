@@ -8,11 +8,11 @@ from torch import nn
 from transformers import PaliGemmaConfig, PreTrainedTokenizerBase
 from transformers.models.paligemma.modeling_paligemma import PaliGemmaModel
 
-from mobilemani_vla.backbone import CognitionBackbone, load_paligemma, paligemma_config
 from mobilemani_vla.config import VLACfg
-from mobilemani_vla.diffusion import ActionDiffusion
-from mobilemani_vla.dit import DiT
-from mobilemani_vla.processor import STATE_DIMS
+from mobilemani_vla.model.backbone import CognitionBackbone, load_paligemma, paligemma_config
+from mobilemani_vla.model.diffusion import ActionDiffusion
+from mobilemani_vla.model.dit import DiT
+from mobilemani_vla.model.processor import STATE_DIMS
 
 
 class StateEncoder(nn.Module):

@@ -12,7 +12,7 @@ from mobilemani_rl.envs.config import EnvCfg, EnvParamsCfg, RobotChoiceCfg, chec
 from mobilemani_rl.envs.tasks import SubsetCfg
 from mobilemani_rl.utils.config_store import register_schema
 from mobilemani_rl.utils.errors import check_choice, check_positive, check_torch_device, check_values
-from mobilemani_vla.ensemble import EnsembleCfg
+from mobilemani_vla.model.ensemble import EnsembleCfg
 
 
 @dataclass

@@ -24,7 +24,7 @@ import torch.nn.functional as F
 from mobilemani_data import schema
 from mobilemani_rl.envs.mobilemani_env import MobileManiEnv
 from mobilemani_rl.utils.errors import MissingFileError
-from mobilemani_vla.policies.base import TASK, EvalPolicy, Observation, active_rows, scatter_rows
+from mobilemani_vla.eval.policies.base import TASK, EvalPolicy, Observation, active_rows, scatter_rows
 
 
 class LeRobotEvalPolicy(EvalPolicy):

@@ -1,8 +1,8 @@
 """MobileManiVLA (closed-loop evaluation) tables and bar plots, laid out like the paper's, from results files.
 
-    python -m mobilemani_vla.tables [outputs/eval] [--out outputs/tables/vla] [--main default]
+    python -m mobilemani_vla.eval.tables [outputs/eval] [--out outputs/tables/vla] [--main default]
 
-Reads <root>/<robot>/<run>/<split>.jsonl written by `python -m mobilemani_vla.evaluate` (run = the eval
+Reads <root>/<robot>/<run>/<split>.jsonl written by `python -m mobilemani_vla.eval.evaluate` (run = the eval
 `name`, by convention the training experiment's name) and writes Markdown + LaTeX for: success per skill and
 per category (run `--main`, unseen objects x unseen scenes), the image- and state-input ablations (runs named
 like conf/experiment/ablation_*), seen/unseen objects x scenes (run `--split-run`, its four split files) and
@@ -27,7 +27,7 @@ from mobilemani_rl.assets.objects import CATEGORIES, catalog_ids
 from mobilemani_rl.utils.cli import entry_point
 from mobilemani_rl.utils.io import check_writable
 from mobilemani_rl.utils.table_format import Table, pct
-from mobilemani_vla.results import SKILL_GROUPS, finished, read_records, summarize
+from mobilemani_vla.eval.results import SKILL_GROUPS, finished, read_records, summarize
 
 ROBOTS = ("g1", "xhand")
 SKILLS = ("open", "close", "pull", "push", "pick")

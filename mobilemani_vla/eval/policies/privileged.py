@@ -22,7 +22,7 @@ from mobilemani_rl.rl.teacher import (
 )
 from mobilemani_rl.scripted.policy import ScriptedPolicy
 from mobilemani_rl.utils.errors import InputError
-from mobilemani_vla.policies.base import PRIVILEGED_STATE, EvalPolicy, Observation
+from mobilemani_vla.eval.policies.base import PRIVILEGED_STATE, EvalPolicy, Observation
 
 
 class PrivilegedPolicy(EvalPolicy):

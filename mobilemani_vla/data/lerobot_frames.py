@@ -1,4 +1,5 @@
-"""LeRobot's dataset reader served from the frame cache (`mobilemani_vla.frame_cache`) instead of decoding.
+"""LeRobot's dataset reader served from the frame cache (`mobilemani_vla.data.frame_cache`) instead of
+decoding.
 
 `lerobot-train` decodes every camera stream of every sample it draws: on the recipe's dataset (4 streams,
 64 px) that is ~1.1-1.3 s of data loading per step of 16 on 2 cores (LeRobot's `data_s`), against 0.07-0.10 s
@@ -20,8 +21,8 @@ from lerobot.datasets.dataset_metadata import LeRobotDatasetMetadata
 from lerobot.datasets.dataset_reader import DatasetReader
 
 from mobilemani_data import schema
-from mobilemani_vla.frame_cache import cached_images
-from mobilemani_vla.processor import camera_key
+from mobilemani_vla.data.frame_cache import cached_images
+from mobilemani_vla.model.processor import camera_key
 
 # feature name -> the frame cache's camera name ("observation.images.head_rgb" -> "head_rgb")
 CACHE_CAMERAS = {camera_key(f"{c}_{m}"): f"{c}_{m}" for c in schema.CAMERAS for m in schema.MODALITIES}

@@ -11,8 +11,8 @@ import torch
 from mobilemani_data import schema
 from mobilemani_vla.checkpoint import load_checkpoint
 from mobilemani_vla.config import VLACfg
-from mobilemani_vla.model import MobileManiVLA
-from mobilemani_vla.processor import VLAProcessor, camera_key, state_features
+from mobilemani_vla.model.network import MobileManiVLA
+from mobilemani_vla.model.processor import VLAProcessor, camera_key, state_features
 
 
 class VLAPolicy:

@@ -8,7 +8,7 @@ from diffusers import DDIMScheduler
 from torch import nn
 
 from mobilemani_vla.config import DiffusionCfg
-from mobilemani_vla.dit import DiT
+from mobilemani_vla.model.dit import DiT
 
 
 def make_scheduler(cfg: DiffusionCfg) -> DDIMScheduler:

@@ -1,7 +1,8 @@
 """Closed-loop evaluation of any policy on MobileManiBench (docs/reference.md, "VLA evaluation").
 
-  python -m mobilemani_vla.evaluate robot=g1 policy.checkpoint=outputs/vla/g1/default/tiny/checkpoints/step_X
-  python -m mobilemani_vla.evaluate eval/policy=scripted eval/protocol=ablation eval/split=seen_unseen
+  python -m mobilemani_vla.eval.evaluate robot=g1 \\
+      policy.checkpoint=outputs/vla/g1/default/tiny/checkpoints/step_X
+  python -m mobilemani_vla.eval.evaluate eval/policy=scripted eval/protocol=ablation eval/split=seen_unseen
   make eval ROBOT=g1 CHECKPOINT=<dir>
 
 Protocol: every (object, skill, scene) combination of the selected object split x scene split (default: test
@@ -38,12 +39,12 @@ from mobilemani_rl.utils.errors import ConfigMismatchError, InputError
 from mobilemani_rl.utils.io import check_writable, read_json, write_json_atomic
 from mobilemani_rl.utils.process_pool import run_in_pool
 from mobilemani_rl.utils.progress import Progress
-from mobilemani_vla.ensemble import check_action_index
-from mobilemani_vla.eval_config import DEFAULT_IMAGE_SIZE, EvalCfg
-from mobilemani_vla.harness import run_batch
-from mobilemani_vla.policies.base import EvalPolicy
-from mobilemani_vla.policies.factory import build_policy
-from mobilemani_vla.results import ResultsFile, read_records, summarize, summary_path
+from mobilemani_vla.eval.config import DEFAULT_IMAGE_SIZE, EvalCfg
+from mobilemani_vla.eval.harness import run_batch
+from mobilemani_vla.eval.policies.base import EvalPolicy
+from mobilemani_vla.eval.policies.factory import build_policy
+from mobilemani_vla.eval.results import ResultsFile, read_records, summarize, summary_path
+from mobilemani_vla.model.ensemble import check_action_index
 
 
 def batch_seed(combo: Combination, base: int, block: int) -> int:
@@ -232,7 +233,7 @@ def run_missing_episodes(
         )
 
 
-@hydra.main(config_path="../conf", config_name="eval", version_base="1.3")
+@hydra.main(config_path="../../conf", config_name="eval", version_base="1.3")
 @entry_point
 def main(cfg: DictConfig) -> None:
     print(json.dumps(evaluate(to_dataclass(with_env_task(cfg), EvalCfg).check())["overall"], indent=2))

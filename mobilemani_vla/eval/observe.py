@@ -12,7 +12,7 @@ from mobilemani_data import schema
 from mobilemani_data.frame import FrameState, frame_images, frame_vectors, robot_cameras
 from mobilemani_rl.envs.mobilemani_env import MobileManiEnv
 from mobilemani_rl.render import CameraRenderCfg, CameraRenderer
-from mobilemani_vla.policies.base import ACTIVE, PRIVILEGED_STATE, TASK, Observation
+from mobilemani_vla.eval.policies.base import ACTIVE, PRIVILEGED_STATE, TASK, Observation
 
 IMAGE_KEYS = {schema.image_key(c, m): (c, m) for c in schema.CAMERAS for m in schema.MODALITIES}
 VECTOR_KEYS = (

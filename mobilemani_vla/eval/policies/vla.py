@@ -10,9 +10,9 @@ import torch
 
 from mobilemani_rl.envs.mobilemani_env import MobileManiEnv
 from mobilemani_vla.checkpoint import recorded_image_size
-from mobilemani_vla.policies.base import TASK, EvalPolicy, Observation, active_rows, scatter_rows
-from mobilemani_vla.policy import VLAPolicy
-from mobilemani_vla.processor import camera_key
+from mobilemani_vla.eval.policies.base import TASK, EvalPolicy, Observation, active_rows, scatter_rows
+from mobilemani_vla.inference import VLAPolicy
+from mobilemani_vla.model.processor import camera_key
 
 
 class VLAEvalPolicy(EvalPolicy):

@@ -3,8 +3,8 @@
 from __future__ import annotations
 
 from mobilemani_rl.utils.errors import InputError, check_choice
-from mobilemani_vla.eval_config import PolicyCfg
-from mobilemani_vla.policies.base import EvalPolicy
+from mobilemani_vla.eval.config import PolicyCfg
+from mobilemani_vla.eval.policies.base import EvalPolicy
 
 KINDS = ("vla", "lerobot", "teacher", "scripted", "random")
 # The kinds that read each setting: given to another kind, it would be ignored without a word.
@@ -30,14 +30,14 @@ def build_policy(cfg: PolicyCfg) -> EvalPolicy:
     if unread:
         raise InputError(f"policy.kind={cfg.kind} does not read {', '.join(unread)}; leave it out")
     if cfg.kind == "vla":
-        from mobilemani_vla.policies.vla import VLAEvalPolicy
+        from mobilemani_vla.eval.policies.vla import VLAEvalPolicy
 
         return VLAEvalPolicy(cfg.checkpoint, cfg.device, cfg.batch_size)
     if cfg.kind == "lerobot":
-        from mobilemani_vla.policies.lerobot import LeRobotEvalPolicy
+        from mobilemani_vla.eval.policies.lerobot import LeRobotEvalPolicy
 
         return LeRobotEvalPolicy(cfg.checkpoint, cfg.device, cfg.batch_size, cfg.rename)
-    from mobilemani_vla.policies.privileged import RandomPolicy, ScriptedEvalPolicy, TeacherEvalPolicy
+    from mobilemani_vla.eval.policies.privileged import RandomPolicy, ScriptedEvalPolicy, TeacherEvalPolicy
 
     if cfg.kind == "teacher":
         return TeacherEvalPolicy(cfg.checkpoint or None, cfg.runs_dir)

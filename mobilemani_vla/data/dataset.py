@@ -25,9 +25,9 @@ from mobilemani_data.metadata import open_dataset_metadata
 from mobilemani_rl.utils.errors import InputError, MissingFileError
 from mobilemani_rl.utils.io import non_finite
 from mobilemani_vla.config import VLACfg
-from mobilemani_vla.frame_cache import cached_images
-from mobilemani_vla.normalizer import Normalizer
-from mobilemani_vla.processor import camera_key, state_features
+from mobilemani_vla.data.frame_cache import cached_images
+from mobilemani_vla.model.normalizer import Normalizer
+from mobilemani_vla.model.processor import camera_key, state_features
 
 PAD = f"{schema.ACTION}_is_pad"
 
