@@ -38,6 +38,7 @@ from mobilemani_rl.utils.cli import entry_point
 from mobilemani_rl.utils.config_store import to_dataclass
 from mobilemani_rl.utils.errors import InputError, OutputExistsError, first_sentence
 from mobilemani_rl.utils.io import check_writable
+from mobilemani_rl.utils.video_logs import quiet_video_libraries
 from mobilemani_rl.utils.writer_lock import TRAIN_LOCK, WriterLock, busy
 from mobilemani_vla.checkpoint import (
     checkpoint_dir,
@@ -340,6 +341,7 @@ def _train(cfg: VLACfg, held: ExitStack) -> TrainResult:
 @hydra.main(config_path="../conf", config_name="vla", version_base="1.3")
 @entry_point
 def main(cfg: DictConfig) -> None:
+    quiet_video_libraries()
     train(to_dataclass(cfg, VLACfg, ignore=ROOT_ONLY).validate())
 
 

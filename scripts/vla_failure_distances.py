@@ -9,6 +9,10 @@ A goal distance equal to the task's start distance means the object never moved 
 
 from __future__ import annotations
 
+import os
+
+os.environ.setdefault("MUJOCO_GL", "egl")  # this command renders offscreen; mujoco reads it when imported
+
 import argparse
 import json
 from pathlib import Path

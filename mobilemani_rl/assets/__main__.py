@@ -7,6 +7,10 @@ Commands: `list` (object counts per category and split), `preview --out PNG` (co
 
 from __future__ import annotations
 
+import os
+
+os.environ.setdefault("MUJOCO_GL", "egl")  # this command renders offscreen; mujoco reads it when imported
+
 import argparse
 from collections.abc import Callable
 from pathlib import Path

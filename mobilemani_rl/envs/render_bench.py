@@ -1,5 +1,4 @@
-"""`MUJOCO_GL=egl python -m mobilemani_rl.envs.render_bench`: camera rendering throughput in a realistic
-scene.
+"""`python -m mobilemani_rl.envs.render_bench`: camera rendering throughput in a realistic scene.
 
 Per size: frames/s of `CameraRenderer` producing 2 cameras x (RGB + depth + segmentation), and the raw
 `mujoco.Renderer` rate (`update_scene` + `render`, RGB only, one camera) on the same model, state, size and
@@ -8,6 +7,10 @@ a table. A command above the env (it builds one), so outside the render package.
 """
 
 from __future__ import annotations
+
+import os
+
+os.environ.setdefault("MUJOCO_GL", "egl")  # this command renders offscreen; mujoco reads it when imported
 
 import argparse
 import json

@@ -1,4 +1,4 @@
-"""`MUJOCO_GL=egl python -m mobilemani_rl.envs.scene_sheet --out sheet.png`: head and wrist views, all scenes.
+"""`python -m mobilemani_rl.envs.scene_sheet --out sheet.png`: head and wrist views, all scenes.
 
 Each placement shows one catalog object of its setting (categories in turn), posed at an episode start of the
 object's first skill. A command above the env (it builds one per scene), so not in the asset layer.
@@ -6,8 +6,11 @@ object's first skill. A command above the env (it builds one per scene), so not 
 
 from __future__ import annotations
 
-import argparse
 import os
+
+os.environ.setdefault("MUJOCO_GL", "egl")  # this command renders offscreen; mujoco reads it when imported
+
+import argparse
 from collections.abc import Sequence
 
 import numpy as np

@@ -13,6 +13,10 @@ eval_<checkpoint>_<seed>.json.
 
 from __future__ import annotations
 
+import os
+
+os.environ.setdefault("MUJOCO_GL", "egl")  # this command renders offscreen; mujoco reads it when imported
+
 import dataclasses
 import json
 from pathlib import Path

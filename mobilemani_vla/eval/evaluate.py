@@ -18,6 +18,10 @@ cannot be written (a file in the way, a read-only file system) stops before the 
 
 from __future__ import annotations
 
+import os
+
+os.environ.setdefault("MUJOCO_GL", "egl")  # this command renders offscreen; mujoco reads it when imported
+
 import json
 import zlib
 from collections.abc import Callable
@@ -39,7 +43,8 @@ from mobilemani_rl.utils.errors import ConfigMismatchError, InputError
 from mobilemani_rl.utils.io import check_writable, read_json, write_json_atomic
 from mobilemani_rl.utils.process_pool import run_in_pool
 from mobilemani_rl.utils.progress import Progress
-from mobilemani_vla.eval.config import DEFAULT_IMAGE_SIZE, EvalCfg
+from mobilemani_rl.utils.video_logs import quiet_video_libraries
+from mobilemani_vla.eval.config import DEFAULT_IMAGE_SIZE, EvalCfg, PolicyCfg
 from mobilemani_vla.eval.harness import run_batch
 from mobilemani_vla.eval.policies.base import EvalPolicy
 from mobilemani_vla.eval.policies.factory import build_policy
@@ -157,6 +162,12 @@ def check_same_settings(out: Path, settings: dict, task_checkpoints: dict[str, s
 Block = tuple[int, Combination, int]  # (combination index, combination, block index)
 
 
+def worker_policy(cfg: PolicyCfg) -> EvalPolicy:
+    """A worker process's policy, built once its video libraries are as quiet as the command's."""
+    quiet_video_libraries()
+    return build_policy(cfg)
+
+
 def evaluate_item(cfg: EvalCfg, policy: EvalPolicy, item: Block) -> list[dict]:
     """A block's records, here or in a worker that built its own policy from the config (`cfg.workers`)."""
     _, combo, block = item
@@ -221,7 +232,7 @@ def run_missing_episodes(
     )
     progress = Progress(len(todo) * size, "episodes")
     finished = run_in_pool(
-        partial(evaluate_item, cfg), todo, cfg.workers, partial(build_policy, cfg.policy), local_state=policy
+        partial(evaluate_item, cfg), todo, cfg.workers, partial(worker_policy, cfg.policy), local_state=policy
     )
     for (k, combo, block), records in finished:
         results.append(records)
@@ -236,6 +247,7 @@ def run_missing_episodes(
 @hydra.main(config_path="../../conf", config_name="eval", version_base="1.3")
 @entry_point
 def main(cfg: DictConfig) -> None:
+    quiet_video_libraries()
     print(json.dumps(evaluate(to_dataclass(with_env_task(cfg), EvalCfg).check())["overall"], indent=2))
 
 
