@@ -1,8 +1,10 @@
 """A trained PPO teacher, the one way to use it: where its run lives, its checkpoint, its deterministic actor.
 
 Evaluation (`mobilemani_rl.rl.eval`), data collection (`mobilemani_data.teachers`) and the closed-loop harness
-(`mobilemani_vla.eval.policies.privileged`) all load teachers through `load_teacher`; checkpoints are read
-with `weights_only=True` (`MobileManiRunner.load`), so a checkpoint file never runs code.
+(`mobilemani_vla.eval.policies.privileged`) all load teachers through `load_teacher` and act through
+`TeacherPolicy`, and step their episodes through `mobilemani_rl.envs.rollout`, so a teacher scores the same in
+its own evaluation and in the harness under the same env config and seed. Checkpoints are read with
+`weights_only=True` (`MobileManiRunner.load`), so a checkpoint file never runs code.
 """
 
 from __future__ import annotations
@@ -19,7 +21,7 @@ from mobilemani_rl.assets.objects import get_object
 from mobilemani_rl.envs.batched import BatchedEnv
 from mobilemani_rl.rl.factory import build_runner
 from mobilemani_rl.rl.run_dir import CONFIG, RESULT, latest_checkpoint
-from mobilemani_rl.utils.errors import MissingFileError
+from mobilemani_rl.utils.errors import InputError, MissingFileError
 from mobilemani_rl.utils.io import read_json
 
 
@@ -93,6 +95,17 @@ def check_checkpoint_file(checkpoint: Path) -> None:
         hint = f"its newest checkpoint is {newest}" if newest else "it holds no model_*.pt"
         raise MissingFileError(f"teacher checkpoint {checkpoint} is a directory; {hint}")
     raise MissingFileError(f"teacher checkpoint {checkpoint} does not exist")
+
+
+def check_teacher_robot(checkpoint: Path, robots: Iterable[str]) -> None:
+    """A fixed teacher checkpoint exists and was trained for every robot it is asked to act for."""
+    check_checkpoint_file(checkpoint)
+    trained = run_config(checkpoint).task.robot
+    if others := sorted(set(robots) - {trained}):
+        raise InputError(
+            f"teacher checkpoint {checkpoint} was trained for robot={trained}, not robot={','.join(others)}; "
+            "evaluate it with the robot it was trained for"
+        )
 
 
 def load_teacher(

@@ -9,19 +9,16 @@ from __future__ import annotations
 from pathlib import Path
 
 import numpy as np
-import torch
-from tensordict import TensorDict
 
 from mobilemani_rl.envs.mobilemani_env import MobileManiEnv
 from mobilemani_rl.rl.teacher import (
-    check_checkpoint_file,
+    TeacherPolicy,
+    check_teacher_robot,
     find_every_teacher,
     find_teacher_checkpoint,
     load_teacher,
-    run_config,
 )
 from mobilemani_rl.scripted.policy import ScriptedPolicy
-from mobilemani_rl.utils.errors import InputError
 from mobilemani_vla.eval.policies.base import PRIVILEGED_STATE, EvalPolicy, Observation
 
 
@@ -58,7 +55,8 @@ class RandomPolicy(PrivilegedPolicy):
 
 
 class TeacherEvalPolicy(PrivilegedPolicy):
-    """Deterministic actor of a PPO checkpoint on the privileged RL observation.
+    """Deterministic actor of a PPO checkpoint on the privileged RL observation: the teacher's evaluation
+    (mobilemani_rl.rl.eval) and data collection act through the same TeacherPolicy.
 
     `checkpoint` fixes one checkpoint; otherwise each task uses the newest model_*.pt under
     <runs_dir>/<robot>/<object>/<skill> (the layout of mobilemani_rl.rl.train), else under its category's run
@@ -83,13 +81,7 @@ class TeacherEvalPolicy(PrivilegedPolicy):
         if self.checkpoint is None:  # stops naming every missing teacher
             found = find_every_teacher(self.runs_dir, tasks, "policy.runs_dir")
             return {" ".join(task): str(path) for task, path in found.items()}
-        check_checkpoint_file(self.checkpoint)
-        trained = run_config(self.checkpoint).task.robot
-        if others := sorted({robot for robot, _, _ in tasks} - {trained}):
-            raise InputError(
-                f"teacher checkpoint {self.checkpoint} was trained for robot={trained}, not robot="
-                f"{','.join(others)}; evaluate it with the robot it was trained for"
-            )
+        check_teacher_robot(self.checkpoint, {robot for robot, _, _ in tasks})
         return {}
 
     def start(self, env: MobileManiEnv, seed: int) -> None:
@@ -97,8 +89,7 @@ class TeacherEvalPolicy(PrivilegedPolicy):
         if checkpoint != self.loaded:
             _, self.actor = load_teacher(checkpoint, env=env)
             self.loaded = checkpoint
+        self.teacher = TeacherPolicy(env, self.actor)
 
-    @torch.inference_mode()
     def act(self, obs: Observation) -> np.ndarray:
-        state = torch.as_tensor(obs[PRIVILEGED_STATE])
-        return self.actor(TensorDict({"policy": state}, batch_size=[len(state)])).numpy()[:, None]
+        return self.teacher.act(obs[PRIVILEGED_STATE])[:, None]
