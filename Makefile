@@ -65,7 +65,7 @@ bench: setup
 	$(PY) -m scripts.bench_all
 
 bench-sim: setup
-	$(PY) -m mobilemani_rl.bench
+	$(PY) -m mobilemani_rl.envs.bench
 
 bench-ppo: setup
 	$(PY) -m mobilemani_rl.rl.bench
@@ -80,7 +80,7 @@ PPO ?= cpu
 ITERATIONS ?=
 RL_ARGS ?=
 rl: setup
-	$(PY) -m mobilemani_rl.train robot=$(ROBOT) task.object=$(OBJECT) task.skill=$(SKILL) rl/ppo=$(PPO) \
+	$(PY) -m mobilemani_rl.rl.train robot=$(ROBOT) task.object=$(OBJECT) task.skill=$(SKILL) rl/ppo=$(PPO) \
 		$(if $(ITERATIONS),rl.ppo.max_iterations=$(ITERATIONS)) eval_episodes=256 $(RL_ARGS)
 
 # The teacher table: one category-level teacher per category-skill row (39 for g1), each evaluated on the category's
@@ -96,7 +96,7 @@ TEACHER_PICK_ITERATIONS ?= 3000
 TEACHER_ARGS ?=
 # warm start from 128 scripted episodes per object: the 8 train objects of a row give a single-object run's 1024
 teachers: setup
-	$(PY) -m mobilemani_rl.teacher_sweep --robot $(ROBOT) --runs $(TEACHERS) --out $(TEACHERS_OUT)/$(ROBOT) \
+	$(PY) -m mobilemani_rl.rl.sweep --robot $(ROBOT) --runs $(TEACHERS) --out $(TEACHERS_OUT)/$(ROBOT) \
 		rl.ppo.max_iterations=$(TEACHER_ITERATIONS) --skill-iterations pick:$(TEACHER_PICK_ITERATIONS) \
 		rl.ppo.warm_start.episodes=128 $(TEACHER_ARGS)
 
@@ -106,8 +106,8 @@ EVAL_RESULTS ?= outputs/eval
 TABLES ?= outputs/tables
 MAIN_RUN ?= default
 tables: setup
-	$(PY) -m mobilemani_rl.teacher_tables $(RL_RUNS) --out $(TABLES)/rl
-	$(PY) -m mobilemani_vla.tables $(EVAL_RESULTS) --out $(TABLES)/vla --main $(MAIN_RUN)
+	$(PY) -m mobilemani_rl.rl.tables $(RL_RUNS) --out $(TABLES)/rl
+	$(PY) -m mobilemani_vla.eval.tables $(EVAL_RESULTS) --out $(TABLES)/vla --main $(MAIN_RUN)
 
 # Closed-loop evaluation (Hydra root conf/eval.yaml): make eval ROBOT=g1 CHECKPOINT=<VLA checkpoint dir>
 #   [POLICY=vla|lerobot|teacher|scripted|random PROTOCOL=paper|ablation|small SPLIT=unseen_unseen|seen_unseen|.. NAME=..
@@ -118,7 +118,7 @@ SPLIT ?= unseen_unseen
 WORKERS ?= 1
 EVAL_ARGS ?=
 eval: setup
-	$(PY) -m mobilemani_vla.evaluate robot=$(ROBOT) eval/policy=$(POLICY) eval/protocol=$(PROTOCOL) eval/split=$(SPLIT) \
+	$(PY) -m mobilemani_vla.eval.evaluate robot=$(ROBOT) eval/policy=$(POLICY) eval/protocol=$(PROTOCOL) eval/split=$(SPLIT) \
 		workers=$(WORKERS) $(if $(CHECKPOINT),policy.checkpoint=$(CHECKPOINT)) $(if $(NAME),name=$(NAME)) $(EVAL_ARGS)
 
 # VLA training (Hydra root conf/vla.yaml): make vla ROBOT=g1 [EXPERIMENT=ablation_image_head_rgb]

@@ -9,6 +9,10 @@ JSON and a table; writes the JSON to bench.out.
 
 from __future__ import annotations
 
+import os
+
+os.environ.setdefault("MUJOCO_GL", "egl")  # this command renders offscreen; mujoco reads it when imported
+
 import json
 import tempfile
 from dataclasses import replace
@@ -20,10 +24,11 @@ from omegaconf import DictConfig
 from mobilemani_data.collect import collect
 from mobilemani_data.config import DataCfg
 from mobilemani_data.export import export
-from mobilemani_rl.cli import entry_point
 from mobilemani_rl.envs.config import with_env_task
-from mobilemani_rl.schema import to_dataclass
-from mobilemani_rl.tasks import SubsetCfg
+from mobilemani_rl.envs.tasks import SubsetCfg
+from mobilemani_rl.utils.cli import entry_point
+from mobilemani_rl.utils.config_store import to_dataclass
+from mobilemani_rl.utils.video_logs import quiet_video_libraries
 
 BENCH_SUBSET = dict(objects=["dishwasher/0000"], skills=["open"], scenes_per_object=1)
 
@@ -68,6 +73,7 @@ def run_bench(cfg: DataCfg, workdir: Path) -> dict:
 @hydra.main(config_path="../conf", config_name="data", version_base="1.3")
 @entry_point
 def main(cfg: DictConfig) -> None:
+    quiet_video_libraries()
     data_cfg = to_dataclass(with_env_task(cfg), DataCfg).check()
     with tempfile.TemporaryDirectory(prefix="mobilemani_bench_") as tmp:
         report = run_bench(data_cfg, Path(tmp))

@@ -28,15 +28,15 @@ from mobilemani_data.config import DataCfg, ShardCfg
 from mobilemani_data.recorder import collect_successes
 from mobilemani_data.shards import complete_header, write_shard
 from mobilemani_data.teachers import build_teacher, current_teacher, teachable_combinations
-from mobilemani_rl.cli import entry_point
 from mobilemani_rl.envs.config import with_env_task
-from mobilemani_rl.io import check_writable
-from mobilemani_rl.process_pool import run_in_pool, threads_per_worker
-from mobilemani_rl.progress import Progress
-from mobilemani_rl.registry import ConfigMismatchError
-from mobilemani_rl.schema import changed_values, to_dataclass
-from mobilemani_rl.tasks import Combination, select_combinations
-from mobilemani_rl.writer_lock import WriterLock, busy
+from mobilemani_rl.envs.tasks import Combination, select_combinations
+from mobilemani_rl.utils.cli import entry_point
+from mobilemani_rl.utils.config_store import changed_values, to_dataclass
+from mobilemani_rl.utils.errors import ConfigMismatchError
+from mobilemani_rl.utils.io import check_writable
+from mobilemani_rl.utils.process_pool import run_in_pool, threads_per_worker
+from mobilemani_rl.utils.progress import Progress
+from mobilemani_rl.utils.writer_lock import WriterLock, busy
 
 
 def episode_settings(cfg: DataCfg, combo: Combination, teacher: str) -> dict:

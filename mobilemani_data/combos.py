@@ -5,8 +5,8 @@ from __future__ import annotations
 from pathlib import PurePosixPath
 
 from mobilemani_data.config import ShardCfg
-from mobilemani_rl.registry import InputError
-from mobilemani_rl.tasks import Combination
+from mobilemani_rl.envs.tasks import Combination
+from mobilemani_rl.utils.errors import InputError
 
 
 def shard_path(combo: Combination) -> PurePosixPath:

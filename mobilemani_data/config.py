@@ -15,9 +15,11 @@ from typing import get_args
 import av
 
 from mobilemani_data import schema
-from mobilemani_rl.base_frame import Convention
+from mobilemani_rl.envs.base_frame import Convention
 from mobilemani_rl.envs.config import EnvCfg, EnvParamsCfg, RobotChoiceCfg, check_env_block
-from mobilemani_rl.registry import (
+from mobilemani_rl.envs.tasks import SubsetCfg
+from mobilemani_rl.utils.config_store import register_schema
+from mobilemani_rl.utils.errors import (
     InputError,
     check_choice,
     check_positive,
@@ -25,8 +27,6 @@ from mobilemani_rl.registry import (
     first_sentence,
     is_count,
 )
-from mobilemani_rl.schema import register_schema
-from mobilemani_rl.tasks import SubsetCfg
 
 
 @dataclass
@@ -45,8 +45,8 @@ class CollectCfg:
     seed: int = 0  # mixed with each combination's name into its env seed
     compression: int = 4  # gzip level of the HDF5 datasets
     action_noise: float = 0.0  # std of Gaussian noise added to the executed (not the recorded) action: DART
-    # Combinations collected side by side in worker processes (mobilemani_rl.process_pool); the episodes do
-    # not depend on it, so a rerun may change it.
+    # Combinations collected side by side in worker processes (mobilemani_rl.utils.process_pool); the
+    # episodes do not depend on it, so a rerun may change it.
     workers: int = 1
 
 

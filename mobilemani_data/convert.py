@@ -14,7 +14,7 @@ from mobilemani_data import schema
 from mobilemani_data.frame import FrameState, frame_images, frame_vectors
 from mobilemani_data.replay import Replayer
 from mobilemani_data.shards import Episode
-from mobilemani_rl.base_frame import Convention, action_to_base
+from mobilemani_rl.envs.base_frame import Convention, action_to_base
 from mobilemani_rl.render import CameraRenderer
 
 FIRST_FRAME = 1  # state 0 is the reset

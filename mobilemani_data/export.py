@@ -19,6 +19,10 @@ Episode metadata (robot, object, category, skill, scene, split, ...) goes to `sc
 
 from __future__ import annotations
 
+import os
+
+os.environ.setdefault("MUJOCO_GL", "egl")  # this command renders offscreen; mujoco reads it when imported
+
 import json
 import shutil
 import sys
@@ -41,14 +45,15 @@ from mobilemani_data.replay import Replayer
 from mobilemani_data.shards import Shard, ShardError, read_shard, shard_paths
 from mobilemani_data.teachers import kind_of
 from mobilemani_rl.assets.robots import RobotDescription, get_robot
-from mobilemani_rl.cli import entry_point
 from mobilemani_rl.envs.config import with_env_task
-from mobilemani_rl.io import check_writable, non_finite, read_json
-from mobilemani_rl.registry import MissingFileError, OutputExistsError
 from mobilemani_rl.render import CameraRenderCfg, CameraRenderer
 from mobilemani_rl.render.appearance import RoomRepainter
-from mobilemani_rl.schema import to_dataclass
-from mobilemani_rl.writer_lock import WriterLock, busy
+from mobilemani_rl.utils.cli import entry_point
+from mobilemani_rl.utils.config_store import to_dataclass
+from mobilemani_rl.utils.errors import MissingFileError, OutputExistsError
+from mobilemani_rl.utils.io import check_writable, non_finite, read_json
+from mobilemani_rl.utils.video_logs import quiet_video_libraries
+from mobilemani_rl.utils.writer_lock import WriterLock, busy
 
 PARTIAL = ".partial"
 
@@ -282,6 +287,7 @@ def export_shards(
 @hydra.main(config_path="../conf", config_name="data", version_base="1.3")
 @entry_point
 def main(cfg: DictConfig) -> None:
+    quiet_video_libraries()
     report = export(to_dataclass(with_env_task(cfg), DataCfg).check())
     timing = (
         ""

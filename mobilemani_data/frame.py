@@ -14,9 +14,9 @@ import numpy as np
 
 from mobilemani_data import schema
 from mobilemani_rl.assets.robots import RobotDescription
-from mobilemani_rl.base_frame import points_to_base
+from mobilemani_rl.envs.base_frame import points_to_base
 from mobilemani_rl.render import CameraFrame
-from mobilemani_rl.rotations import euler_from_quat, quat_apply, quat_conj, quat_mul
+from mobilemani_rl.utils.rotations import euler_from_quat, quat_apply, quat_conj, quat_mul
 
 
 @dataclass

@@ -10,8 +10,8 @@ from lerobot.datasets.dataset_metadata import LeRobotDatasetMetadata
 from lerobot.datasets.video_utils import FrameTimestampError
 
 from mobilemani_data import schema
-from mobilemani_rl.io import read_json
-from mobilemani_rl.registry import MissingFileError
+from mobilemani_rl.utils.errors import MissingFileError
+from mobilemani_rl.utils.io import read_json
 
 
 def read_episodes(root: Path) -> list[dict]:

@@ -19,9 +19,10 @@ from omegaconf import DictConfig
 
 from mobilemani_data import schema
 from mobilemani_data.config import DataCfg
-from mobilemani_rl.cli import entry_point
 from mobilemani_rl.envs.config import with_env_task
-from mobilemani_rl.schema import to_dataclass
+from mobilemani_rl.utils.cli import entry_point
+from mobilemani_rl.utils.config_store import to_dataclass
+from mobilemani_rl.utils.video_logs import quiet_video_libraries
 
 
 def tile(frame: dict) -> np.ndarray:
@@ -68,6 +69,7 @@ def write_preview(cfg: DataCfg) -> Path:
 @hydra.main(config_path="../conf", config_name="data", version_base="1.3")
 @entry_point
 def main(cfg: DictConfig) -> None:
+    quiet_video_libraries()
     print(write_preview(to_dataclass(with_env_task(cfg), DataCfg).check()))
 
 

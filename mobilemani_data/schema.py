@@ -25,10 +25,10 @@ SEGMENTATION_SCALE = 100  # label * 100 in every channel: 0, 100, 200
 # where LeRobot policies ignore it.
 STATE = "observation.state"  # proprioception, base frame: wrist pos (3) + 6D rotation (6), hand joints (nh)
 WRIST_POSE_DIM = 9  # observation.state[:9]: the wrist pose in the base frame (the paper's VLA state input)
-# The action in the frame's base frame (mobilemani_rl.base_frame), [-1, 1] (7 g1 / 18 xhand). Base, not world:
-# a policy sees onboard cameras and base-frame proprioception only, so a world-frame action would ask it to
-# infer the base's heading in the world, which none of its inputs carries
-# (the paper's VLA predicts base-frame actions).
+# The action in the frame's base frame (mobilemani_rl.envs.base_frame), [-1, 1] (7 g1 / 18 xhand). Base, not
+# world: a policy sees onboard cameras and base-frame proprioception only, so a world-frame action would ask
+# it to infer the base's heading in the world, which none of its inputs carries (the paper's VLA predicts
+# base-frame actions).
 ACTION = "action"
 # Extras, not policy inputs by default:
 WORLD_STATE = (

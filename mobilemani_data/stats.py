@@ -24,10 +24,11 @@ from omegaconf import DictConfig
 from mobilemani_data import schema
 from mobilemani_data.config import DataCfg
 from mobilemani_data.metadata import read_episodes
-from mobilemani_rl.cli import entry_point
 from mobilemani_rl.envs.config import with_env_task
-from mobilemani_rl.io import check_writable
-from mobilemani_rl.schema import to_dataclass
+from mobilemani_rl.utils.cli import entry_point
+from mobilemani_rl.utils.config_store import to_dataclass
+from mobilemani_rl.utils.io import check_writable
+from mobilemani_rl.utils.video_logs import quiet_video_libraries
 
 GROUPS = ("skill", "category", "split")
 
@@ -90,6 +91,7 @@ def markdown(table: dict) -> str:
 @hydra.main(config_path="../conf", config_name="data", version_base="1.3")
 @entry_point
 def main(cfg: DictConfig) -> None:
+    quiet_video_libraries()
     data_cfg = to_dataclass(with_env_task(cfg), DataCfg).check()
     root = Path(data_cfg.dataset_dir)
     table = dataset_stats(read_episodes(root))

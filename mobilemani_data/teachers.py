@@ -8,9 +8,9 @@ from mobilemani_data.config import TeacherCfg
 from mobilemani_data.recorder import Policy
 from mobilemani_rl.envs.config import EnvCfg, TaskCfg
 from mobilemani_rl.envs.mobilemani_env import MobileManiEnv
-from mobilemani_rl.registry import MissingFileError, check_choice
-from mobilemani_rl.scripted import ScriptedPolicy
-from mobilemani_rl.tasks import Combination, recording_env_cfg
+from mobilemani_rl.envs.tasks import Combination, recording_env_cfg
+from mobilemani_rl.scripted.policy import ScriptedPolicy
+from mobilemani_rl.utils.errors import MissingFileError, check_choice
 
 KINDS = ("scripted", "ppo")
 
@@ -33,7 +33,7 @@ def current_teacher(cfg: TeacherCfg, combo: Combination, recorded: str) -> str:
     one it `recorded`."""
     if cfg.kind == "scripted":
         return "scripted"
-    from mobilemani_rl.teacher import find_teacher_checkpoint  # the RL stack, for PPO teachers only
+    from mobilemani_rl.rl.teacher import find_teacher_checkpoint  # the RL stack, for PPO teachers only
 
     try:
         return str(find_teacher_checkpoint(cfg.runs_dir, combo.robot, combo.object_id, combo.skill))
@@ -60,7 +60,7 @@ def teachable_combinations(cfg: TeacherCfg, combos: list[Combination]) -> tuple[
     such teacher run instead of one per combination."""
     if cfg.kind != "ppo":
         return combos, []
-    from mobilemani_rl.teacher import find_every_teacher, trained_success
+    from mobilemani_rl.rl.teacher import find_every_teacher, trained_success
 
     checkpoints = find_every_teacher(
         cfg.runs_dir, ((c.robot, c.object_id, c.skill) for c in combos), "teacher.runs_dir"
@@ -81,7 +81,7 @@ def teachable_combinations(cfg: TeacherCfg, combos: list[Combination]) -> tuple[
 
 def _ppo_teacher(cfg: TeacherCfg, combo: Combination, nthread: int, num_envs: int, seed: int) -> Teacher:
     # Imported here: the RL stack (torch, rsl-rl) is only needed for PPO teachers.
-    from mobilemani_rl.teacher import (
+    from mobilemani_rl.rl.teacher import (
         TeacherPolicy,
         find_teacher_checkpoint,
         load_teacher,

@@ -36,11 +36,12 @@ from mobilemani_data.metadata import (
 from mobilemani_data.replay import Replayer
 from mobilemani_data.shards import Shard, ShardError, read_shard, shard_paths
 from mobilemani_rl.assets.robots import get_robot
-from mobilemani_rl.cli import entry_point
 from mobilemani_rl.envs.config import with_env_task
-from mobilemani_rl.io import non_finite
-from mobilemani_rl.registry import first_sentence
-from mobilemani_rl.schema import to_dataclass
+from mobilemani_rl.utils.cli import entry_point
+from mobilemani_rl.utils.config_store import to_dataclass
+from mobilemani_rl.utils.errors import first_sentence
+from mobilemani_rl.utils.io import non_finite
+from mobilemani_rl.utils.video_logs import quiet_video_libraries
 
 
 def read_shards(raw_dir: Path, robot: str) -> tuple[list[Shard], list[str]]:
@@ -193,6 +194,7 @@ def validate(cfg: DataCfg) -> list[str]:
 @hydra.main(config_path="../conf", config_name="data", version_base="1.3")
 @entry_point
 def main(cfg: DictConfig) -> None:
+    quiet_video_libraries()
     problems = validate(to_dataclass(with_env_task(cfg), DataCfg).check())
     for problem in problems:
         print(f"PROBLEM {problem}", file=sys.stderr)

@@ -1,6 +1,2 @@
-"""MobileManiRL: simulator, assets, environment, PPO training and evaluation."""
-
-import os
-
-# Headless first: offscreen rendering through EGL unless the user chose a GL backend.
-os.environ.setdefault("MUJOCO_GL", "egl")
+"""MobileManiRL: the simulator (assets, envs, render, the scripted policy), the PPO teachers (rl) and the
+utilities all three packages share (utils)."""

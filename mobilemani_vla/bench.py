@@ -20,13 +20,14 @@ from collections.abc import Callable
 
 import torch
 
-from mobilemani_rl.cli import count, entry_point
-from mobilemani_rl.schema import group_options
+from mobilemani_rl.utils.cli import count, entry_point
+from mobilemani_rl.utils.config_store import group_options
+from mobilemani_rl.utils.video_logs import quiet_video_libraries
 from mobilemani_vla.config import CAMERAS, VLACfg, compose_vla_cfg
-from mobilemani_vla.data import fit_normalizer, open_data
-from mobilemani_vla.model import MobileManiVLA, build_model
-from mobilemani_vla.processor import STATE_DIMS, VLAProcessor
-from mobilemani_vla.tokenizer import build_word_tokenizer
+from mobilemani_vla.data.dataset import fit_normalizer, open_data
+from mobilemani_vla.model.network import MobileManiVLA, build_model
+from mobilemani_vla.model.processor import STATE_DIMS, VLAProcessor
+from mobilemani_vla.model.tokenizer import build_word_tokenizer
 from mobilemani_vla.train import adamw
 
 
@@ -156,6 +157,7 @@ def meta_counts() -> dict:
 
 @entry_point
 def main() -> None:
+    quiet_video_libraries()
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--models", nargs="+", default=["tiny", "small"], choices=group_options("vla/model"))
     parser.add_argument("--batch", type=count, default=8)

@@ -25,12 +25,12 @@ from safetensors.torch import load_file, load_model, save_file, save_model
 from torch.optim.swa_utils import AveragedModel
 from transformers import PaliGemmaConfig, PreTrainedTokenizerBase
 
-from mobilemani_rl.io import read_json
-from mobilemani_rl.registry import InputError, MissingFileError
+from mobilemani_rl.utils.errors import InputError, MissingFileError
+from mobilemani_rl.utils.io import read_json
 from mobilemani_vla.config import VLACfg, vla_cfg_from_yaml, vla_cfg_to_yaml
-from mobilemani_vla.model import MobileManiVLA, build_model
-from mobilemani_vla.normalizer import Normalizer
-from mobilemani_vla.tokenizer import load_tokenizer
+from mobilemani_vla.model.network import MobileManiVLA, build_model
+from mobilemani_vla.model.normalizer import Normalizer
+from mobilemani_vla.model.tokenizer import load_tokenizer
 
 WEIGHTS = "model.safetensors"
 FSDP_WEIGHTS = "pytorch_model_fsdp.bin"  # accelerate's save_state under FSDP with a FULL_STATE_DICT

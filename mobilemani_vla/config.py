@@ -10,10 +10,10 @@ from hydra import compose, initialize_config_dir
 from omegaconf import OmegaConf
 
 from mobilemani_rl.envs.config import RobotChoiceCfg
-from mobilemani_rl.registry import InputError, check_positive, check_values
-from mobilemani_rl.schema import CONF_DIR, register_schema, to_dataclass
-from mobilemani_vla.augment import AugmentCfg
-from mobilemani_vla.dit import DIT_PRESETS, GELU_APPROXIMATIONS
+from mobilemani_rl.utils.config_store import CONF_DIR, register_schema, to_dataclass
+from mobilemani_rl.utils.errors import InputError, check_positive, check_values
+from mobilemani_vla.data.augment import AugmentCfg
+from mobilemani_vla.model.dit import DIT_PRESETS, GELU_APPROXIMATIONS
 
 DTYPES = ("float32", "bfloat16", "float16")
 ROBOT_ACTION_DIMS = {"g1": 7, "xhand": 18}  # 6 wrist deltas + 1 gripper / 12 hand joints
@@ -98,9 +98,8 @@ class DataCfg:
     repo_id: str = "mobilemani/g1"
     episodes: list[int] | None = None  # null: every episode
     heldout_episodes: int = 4  # whole episodes kept out of training for the diagnostics (seeded choice)
-    cache: bool = (
-        True  # decoded-frame cache next to the dataset (mobilemani_vla.frame_cache); false: decode per sample
-    )
+    # decoded-frame cache next to the dataset (mobilemani_vla.data.frame_cache); false: decode per sample
+    cache: bool = True
     video_backend: str = "pyav"
     num_workers: int = 0
 

@@ -19,8 +19,8 @@ import torch
 import torch.nn.functional as F
 
 from mobilemani_rl.assets.objects import ALL_SKILLS
-from mobilemani_vla.model import MobileManiVLA
-from mobilemani_vla.processor import VLAProcessor
+from mobilemani_vla.model.network import MobileManiVLA
+from mobilemani_vla.model.processor import VLAProcessor
 
 SEED = 0  # fixed noise and timesteps, so successive diagnostics are comparable
 INSTRUCTION_VARIANTS = ("null_instruction", "wrong_instruction")

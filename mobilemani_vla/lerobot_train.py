@@ -1,6 +1,7 @@
 """`lerobot-train` on a MobileManiDataset, with the project's quiet video libraries (one line saying PyAV
-decodes instead of lerobot's ~60-line torchcodec traceback on every dataset open, mobilemani_data.video) and
-the camera frames read from the frame cache instead of decoded per sample (mobilemani_vla.lerobot_frames).
+decodes instead of lerobot's ~60-line torchcodec traceback on every dataset open,
+mobilemani_rl.utils.video_logs) and the camera frames read from the frame cache instead of decoded per sample
+(mobilemani_vla.data.lerobot_frames).
 LeRobot's arguments, plus `--frame_cache=false` to decode as stock LeRobot does:
 
     python -m mobilemani_vla.lerobot_train --policy.type=act --dataset.root=<dataset> --output_dir=<run> \\
@@ -21,10 +22,10 @@ from contextlib import nullcontext
 from pathlib import Path
 
 from mobilemani_data.metadata import open_dataset_metadata
-from mobilemani_data.video import quiet_video_libraries
-from mobilemani_rl.cli import entry_point
-from mobilemani_rl.io import read_json
-from mobilemani_rl.registry import ConfigMismatchError, InputError, OutputExistsError, check_values
+from mobilemani_rl.utils.cli import entry_point
+from mobilemani_rl.utils.errors import ConfigMismatchError, InputError, OutputExistsError, check_values
+from mobilemani_rl.utils.io import read_json
+from mobilemani_rl.utils.video_logs import quiet_video_libraries
 
 FLAG = "--frame_cache="
 COUNTS = ("steps", "batch_size")
@@ -129,7 +130,7 @@ def main() -> None:
     # Imported after the log filter is in place: lerobot warns about torchcodec while importing.
     from lerobot.scripts.lerobot_train import main as lerobot_train
 
-    from mobilemani_vla.lerobot_frames import served_from_frame_cache
+    from mobilemani_vla.data.lerobot_frames import served_from_frame_cache
 
     with served_from_frame_cache() if use_cache else nullcontext():
         lerobot_train()

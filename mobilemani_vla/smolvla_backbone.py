@@ -18,8 +18,8 @@ from __future__ import annotations
 import argparse
 from pathlib import Path
 
-from mobilemani_rl.cli import count, entry_point
-from mobilemani_rl.registry import InputError
+from mobilemani_rl.utils.cli import count, entry_point
+from mobilemani_rl.utils.errors import InputError
 
 # SmolVLM's special tokens, as its processor and SmolVLA look them up on the tokenizer.
 IMAGE_TOKENS = {

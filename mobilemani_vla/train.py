@@ -34,13 +34,12 @@ from torch.utils.data import DataLoader
 from tqdm import tqdm
 from transformers import PreTrainedTokenizerBase
 
-from mobilemani_rl.cli import entry_point
-from mobilemani_rl.io import check_writable
-from mobilemani_rl.registry import InputError, OutputExistsError, first_sentence
-from mobilemani_rl.rl.run_dir import TRAIN_LOCK
-from mobilemani_rl.schema import to_dataclass
-from mobilemani_rl.writer_lock import WriterLock, busy
-from mobilemani_vla.augment import augment_images
+from mobilemani_rl.utils.cli import entry_point
+from mobilemani_rl.utils.config_store import to_dataclass
+from mobilemani_rl.utils.errors import InputError, OutputExistsError, first_sentence
+from mobilemani_rl.utils.io import check_writable
+from mobilemani_rl.utils.video_logs import quiet_video_libraries
+from mobilemani_rl.utils.writer_lock import TRAIN_LOCK, WriterLock, busy
 from mobilemani_vla.checkpoint import (
     checkpoint_dir,
     checkpoint_step,
@@ -53,12 +52,13 @@ from mobilemani_vla.checkpoint import (
     unreadable_weights,
 )
 from mobilemani_vla.config import ROOT_ONLY, TrainCfg, VLACfg, vla_cfg_from_yaml
-from mobilemani_vla.data import fit_normalizer, open_data, open_metadata
+from mobilemani_vla.data.augment import augment_images
+from mobilemani_vla.data.dataset import fit_normalizer, open_data, open_metadata
 from mobilemani_vla.diagnostics import diagnose, heldout_batch
-from mobilemani_vla.model import MobileManiVLA, build_model
-from mobilemani_vla.normalizer import Normalizer
-from mobilemani_vla.processor import VLAProcessor
-from mobilemani_vla.tokenizer import load_tokenizer
+from mobilemani_vla.model.network import MobileManiVLA, build_model
+from mobilemani_vla.model.normalizer import Normalizer
+from mobilemani_vla.model.processor import VLAProcessor
+from mobilemani_vla.model.tokenizer import load_tokenizer
 
 
 @dataclass
@@ -341,6 +341,7 @@ def _train(cfg: VLACfg, held: ExitStack) -> TrainResult:
 @hydra.main(config_path="../conf", config_name="vla", version_base="1.3")
 @entry_point
 def main(cfg: DictConfig) -> None:
+    quiet_video_libraries()
     train(to_dataclass(cfg, VLACfg, ignore=ROOT_ONLY).validate())
 
 

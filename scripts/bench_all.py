@@ -107,10 +107,10 @@ def main() -> None:
         export_json = Path(tmp) / "export.json"
         report = {
             "sim": run(
-                "mobilemani_rl.bench",
+                "mobilemani_rl.envs.bench",
                 ["--seconds", "2" if quick else "6"] + (["--envs", "64", "256"] if quick else []),
             ),
-            "render": run("mobilemani_rl.render_bench", ["--seconds", "1" if quick else "5"]),
+            "render": run("mobilemani_rl.envs.render_bench", ["--seconds", "1" if quick else "5"]),
             "ppo": run(
                 "mobilemani_rl.rl.bench",
                 ["--iterations", "1" if quick else "3"] + (["--presets", "cpu"] if quick else []),

@@ -16,7 +16,7 @@ import argparse
 import json
 from pathlib import Path
 
-from mobilemani_vla.results import read_records
+from mobilemani_vla.eval.results import read_records
 from scripts.demo_report import rate_cell
 
 VLA_HEADER = (

@@ -14,11 +14,11 @@ import json
 
 import numpy as np
 
-from mobilemani_rl.cli import count
 from mobilemani_rl.envs.config import EnvCfg, PhysicsCfg, TaskCfg
 from mobilemani_rl.envs.mobilemani_env import MobileManiEnv
-from mobilemani_rl.rollout import first_episode_success
-from mobilemani_rl.scripted import MOVE, ScriptedPolicy
+from mobilemani_rl.envs.rollout import first_episode_success
+from mobilemani_rl.scripted.policy import MOVE, ScriptedPolicy
+from mobilemani_rl.utils.cli import count
 
 TASKS = (
     ("g1", "test/box", "open"),

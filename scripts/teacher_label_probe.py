@@ -26,7 +26,7 @@ from mobilemani_data.recorder import collect_successes
 from mobilemani_data.teachers import build_teacher
 from mobilemani_rl.envs.config import EnvCfg
 from mobilemani_rl.envs.observations import TIME_ENCODING_DIM, time_encoding
-from mobilemani_rl.tasks import SubsetCfg, select_combinations
+from mobilemani_rl.envs.tasks import SubsetCfg, select_combinations
 
 ACTION_NOISE = 0.3  # the demo's collect.action_noise
 WINDOWS = (1, 5, 9, 15)  # label smoothing windows measured

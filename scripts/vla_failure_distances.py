@@ -12,6 +12,10 @@ A goal distance equal to the task's start distance means the object never moved 
 
 from __future__ import annotations
 
+import os
+
+os.environ.setdefault("MUJOCO_GL", "egl")  # this command renders offscreen; mujoco reads it when imported
+
 import argparse
 import json
 from pathlib import Path
@@ -20,13 +24,13 @@ import numpy as np
 from omegaconf import OmegaConf
 
 from mobilemani_rl.envs.mobilemani_env import MobileManiEnv, StepResult
-from mobilemani_rl.schema import to_dataclass
-from mobilemani_rl.tasks import Combination, select_combinations
-from mobilemani_vla.eval_config import EvalCfg
-from mobilemani_vla.evaluate import block_env, run_block
-from mobilemani_vla.policies.base import EvalPolicy, Observation
-from mobilemani_vla.policies.factory import build_policy
-from mobilemani_vla.policies.privileged import TeacherEvalPolicy
+from mobilemani_rl.envs.tasks import Combination, select_combinations
+from mobilemani_rl.utils.config_store import to_dataclass
+from mobilemani_vla.eval.config import EvalCfg
+from mobilemani_vla.eval.evaluate import block_env, run_block
+from mobilemani_vla.eval.policies.base import EvalPolicy, Observation
+from mobilemani_vla.eval.policies.factory import build_policy
+from mobilemani_vla.eval.policies.privileged import TeacherEvalPolicy
 
 
 class AskingTheTeacher(EvalPolicy):

@@ -14,9 +14,9 @@ import json
 
 import numpy as np
 
-from mobilemani_vla.data import open_data
+from mobilemani_vla.data.dataset import open_data
 from mobilemani_vla.diagnostics import cognition_spread
-from mobilemani_vla.policy import VLAPolicy
+from mobilemani_vla.inference import VLAPolicy
 
 
 def feature_spread(policy: VLAPolicy, data_root: str, frames: int) -> dict[str, float]:

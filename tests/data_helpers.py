@@ -9,7 +9,7 @@ from hydra import compose, initialize_config_dir
 
 from mobilemani_data.config import DataCfg
 from mobilemani_rl.envs.config import with_env_task
-from mobilemani_rl.schema import to_dataclass
+from mobilemani_rl.utils.config_store import to_dataclass
 
 CONF = ROOT / "conf"
 

@@ -7,7 +7,7 @@ from omegaconf.errors import ConfigKeyError
 
 from mobilemani_rl.envs.config import EnvCfg, TaskCfg
 from mobilemani_rl.rl.config import RLCfg
-from mobilemani_rl.schema import to_dataclass
+from mobilemani_rl.utils.config_store import to_dataclass
 
 CONF = str(ROOT / "conf")
 

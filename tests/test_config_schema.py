@@ -13,9 +13,9 @@ from omegaconf.errors import ConfigKeyError
 from mobilemani_data.config import DataCfg
 from mobilemani_rl.envs.config import with_env_task
 from mobilemani_rl.rl.config import EvalRlCfg, PpoCfg, RLCfg
-from mobilemani_rl.schema import to_dataclass
+from mobilemani_rl.utils.config_store import to_dataclass
 from mobilemani_vla.config import ROOT_ONLY, VLACfg
-from mobilemani_vla.eval_config import EvalCfg
+from mobilemani_vla.eval.config import EvalCfg
 
 CONF = ROOT / "conf"
 

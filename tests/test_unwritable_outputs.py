@@ -14,10 +14,10 @@ import pytest
 from checkout import ROOT, checkout_env
 from data_helpers import tiny_cfg
 
-import mobilemani_rl.io
-from mobilemani_rl.cli import entry_point
-from mobilemani_rl.io import check_writable
-from mobilemani_rl.registry import InputError, UnwritableOutputError
+import mobilemani_rl.utils.io
+from mobilemani_rl.utils.cli import entry_point
+from mobilemani_rl.utils.errors import InputError, UnwritableOutputError
+from mobilemani_rl.utils.io import check_writable
 
 
 def tree(root: Path) -> list[Path]:
@@ -29,7 +29,7 @@ def compose_root(name: str, overrides: list[str]):
     from hydra import compose, initialize_config_dir
 
     import mobilemani_rl.rl.config  # noqa: F401
-    import mobilemani_vla.eval_config  # noqa: F401
+    import mobilemani_vla.eval.config  # noqa: F401
 
     with initialize_config_dir(config_dir=str(ROOT / "conf"), version_base="1.3"):
         return compose(config_name=name, overrides=overrides)
@@ -72,7 +72,7 @@ def failing_probe(code: int, folder: Path) -> SimpleNamespace:
     ("code", "reason"), [(errno.EROFS, "Read-only file system"), (errno.EACCES, "Permission denied")]
 )
 def test_a_location_that_refuses_the_probe_is_named_with_the_reason(tmp_path, monkeypatch, code, reason):
-    monkeypatch.setattr(mobilemani_rl.io, "tempfile", failing_probe(code, tmp_path))
+    monkeypatch.setattr(mobilemani_rl.utils.io, "tempfile", failing_probe(code, tmp_path))
     with pytest.raises(UnwritableOutputError) as err:
         check_writable(tmp_path / "out" / "run", "output_dir")
     assert str(err.value) == (
@@ -114,13 +114,13 @@ def run_export(out: Path, tmp: Path) -> None:
 
 
 def run_rl_train(out: Path, tmp: Path) -> None:
-    from mobilemani_rl.train import train
+    from mobilemani_rl.rl.train import train
 
     train(compose_root("rl", ["rl/ppo=tiny", f"run_dir={out / 'run'}"]))
 
 
 def run_teacher_sweep(out: Path, tmp: Path, option: str) -> None:
-    from mobilemani_rl.teacher_sweep import main
+    from mobilemani_rl.rl.sweep import main
 
     paths = {"--runs": tmp / "runs", "--out": tmp / "tables", option: out / option[2:]}
     main(
@@ -137,7 +137,7 @@ def run_teacher_sweep(out: Path, tmp: Path, option: str) -> None:
 
 
 def run_teacher_tables(out: Path, tmp: Path) -> None:
-    from mobilemani_rl.teacher_tables import main
+    from mobilemani_rl.rl.tables import main
 
     sys.argv = ["teacher_tables", str(tmp / "runs"), "--out", str(out / "rl")]
     main.__wrapped__()
@@ -152,16 +152,16 @@ def run_vla_train(out: Path, tmp: Path) -> None:
 
 def run_evaluate(out: Path, tmp: Path) -> None:
     from mobilemani_rl.envs.config import with_env_task
-    from mobilemani_rl.schema import to_dataclass
-    from mobilemani_vla.eval_config import EvalCfg
-    from mobilemani_vla.evaluate import evaluate
+    from mobilemani_rl.utils.config_store import to_dataclass
+    from mobilemani_vla.eval.config import EvalCfg
+    from mobilemani_vla.eval.evaluate import evaluate
 
     overrides = ["eval/policy=scripted", "eval/protocol=small", f"output_dir={out / 'eval'}", "name=probe"]
     evaluate(to_dataclass(with_env_task(compose_root("eval", overrides)), EvalCfg).check())
 
 
 def run_vla_tables(out: Path, tmp: Path) -> None:
-    from mobilemani_vla.tables import main
+    from mobilemani_vla.eval.tables import main
 
     sys.argv = ["tables", str(tmp / "eval"), "--out", str(out / "vla")]
     main.__wrapped__()
@@ -214,7 +214,7 @@ def test_every_writing_command_names_its_unwritable_output_in_one_line(
     else:
         out = workdir / "read-only"
         out.mkdir()
-        monkeypatch.setattr(mobilemani_rl.io, "tempfile", failing_probe(errno.EROFS, out))
+        monkeypatch.setattr(mobilemani_rl.utils.io, "tempfile", failing_probe(errno.EROFS, out))
         reason = f"{out} is not writable (Read-only file system)"
     before = tree(workdir)
     with pytest.raises(SystemExit) as stop:
@@ -230,9 +230,9 @@ def test_every_writing_command_names_its_unwritable_output_in_one_line(
 @pytest.mark.parametrize(
     ("argv", "named", "key"),
     [
-        (["-m", "mobilemani_rl.train", "rl/ppo=tiny", "run_dir={out}/run"], "{out}/run", "run_dir"),
+        (["-m", "mobilemani_rl.rl.train", "rl/ppo=tiny", "run_dir={out}/run"], "{out}/run", "run_dir"),
         (
-            ["-m", "mobilemani_rl.teacher_sweep", "--runs", "{out}/runs", "--out", "tables"],
+            ["-m", "mobilemani_rl.rl.sweep", "--runs", "{out}/runs", "--out", "tables"],
             "{out}/runs",
             "--runs",
         ),

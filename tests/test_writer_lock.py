@@ -5,10 +5,10 @@ import sys
 
 import pytest
 
-from mobilemani_rl.registry import InputError
-from mobilemani_rl.writer_lock import WriterLock
+from mobilemani_rl.utils.errors import InputError
+from mobilemani_rl.utils.writer_lock import WriterLock
 
-HOLD = "import sys, time; from pathlib import Path; from mobilemani_rl.writer_lock import WriterLock; "
+HOLD = "import sys, time; from pathlib import Path; from mobilemani_rl.utils.writer_lock import WriterLock; "
 HOLD += "lock = WriterLock(Path(sys.argv[1]), 'busy'); print('held', flush=True); time.sleep(120)"
 
 

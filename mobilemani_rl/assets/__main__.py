@@ -2,17 +2,21 @@
 
 Commands: `list` (object counts per category and split), `preview --out PNG` (contact sheet). A command is a
 (configure parser, run) pair in COMMANDS; add new ones there. Views of every scene placement need the env:
-`python -m mobilemani_rl.scene_sheet`.
+`python -m mobilemani_rl.envs.scene_sheet`.
 """
 
 from __future__ import annotations
+
+import os
+
+os.environ.setdefault("MUJOCO_GL", "egl")  # this command renders offscreen; mujoco reads it when imported
 
 import argparse
 from collections.abc import Callable
 from pathlib import Path
 
 from mobilemani_rl.assets.objects.catalog import CATALOG, CATEGORIES, SPLITS
-from mobilemani_rl.cli import count, entry_point, png_path
+from mobilemani_rl.utils.cli import count, entry_point, png_path
 
 
 def _configure_list(parser: argparse.ArgumentParser) -> None:

@@ -12,7 +12,7 @@ from typing import Any
 
 from omegaconf import DictConfig, OmegaConf
 
-from mobilemani_rl.registry import SEED_RULE, InputError, check_positive, check_values, is_seed
+from mobilemani_rl.utils.errors import SEED_RULE, InputError, check_positive, check_values, is_seed
 
 
 @dataclass

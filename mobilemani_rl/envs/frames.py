@@ -8,7 +8,7 @@ import mujoco
 import numpy as np
 
 from mobilemani_rl.envs.scene import SceneIndex
-from mobilemani_rl.rotations import cross
+from mobilemani_rl.utils.rotations import cross
 
 
 class SimView:

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from mobilemani_rl.rotations import axis_angle_from_quat, cross, quat_from_euler
+from mobilemani_rl.utils.rotations import axis_angle_from_quat, cross, quat_from_euler
 
 
 def wrist_pose_error(actions: np.ndarray, pos_scale: float, rot_scale: float) -> np.ndarray:

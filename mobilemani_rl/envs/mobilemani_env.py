@@ -24,8 +24,8 @@ from mobilemani_rl.envs.resets import sample_episode_start
 from mobilemani_rl.envs.rewards import RewardContext, TaskDistances, grasp_flag, reward_terms, total_reward
 from mobilemani_rl.envs.scene import build_scene
 from mobilemani_rl.envs.terminations import hand_too_far_or_too_fast, time_out_or_held_success
-from mobilemani_rl.registry import SEED_RULE, InputError, is_seed
-from mobilemani_rl.rotations import quat_from_euler, quat_mul
+from mobilemani_rl.utils.errors import SEED_RULE, InputError, is_seed
+from mobilemani_rl.utils.rotations import quat_from_euler, quat_mul
 
 # The palm-rotation reach term is on only for these (category, skill) pairs, as in the reference.
 PALM_ROTATION_TASKS = {("holistic", "pick"), ("refrigerator", "open")}

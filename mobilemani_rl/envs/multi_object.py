@@ -13,7 +13,7 @@ import numpy as np
 
 from mobilemani_rl.envs.config import EnvCfg
 from mobilemani_rl.envs.mobilemani_env import MobileManiEnv, StepResult
-from mobilemani_rl.registry import InputError
+from mobilemani_rl.utils.errors import InputError
 
 
 class MultiObjectEnv:

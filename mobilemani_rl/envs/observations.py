@@ -6,7 +6,7 @@ import numpy as np
 
 from mobilemani_rl.envs.frames import Frames
 from mobilemani_rl.envs.rewards import TaskDistances
-from mobilemani_rl.rotations import euler_from_quat
+from mobilemani_rl.utils.rotations import euler_from_quat
 
 TIME_ENCODING_DIM = 30
 # f_i = exp(-2i·ln(10000)/30), i = 0..14: slot 2i = sin(t·f_i), slot 2i+1 = cos(t·f_i), t in control steps.

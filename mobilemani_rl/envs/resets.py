@@ -13,7 +13,7 @@ from mobilemani_rl.assets.robots import RobotDescription
 from mobilemani_rl.assets.scenes import Placement
 from mobilemani_rl.assets.stage import object_position, stage_position, stage_top
 from mobilemani_rl.envs.config import ResetCfg
-from mobilemani_rl.rotations import quat_from_yaw
+from mobilemani_rl.utils.rotations import quat_from_yaw
 
 ROBOT_ROOT_Z = 0.01  # reference default root height
 TOWARD_ROBOT = np.array([0.0, -1.0, 0.0])  # objects face -y; the robot stands there facing +y

@@ -9,7 +9,7 @@ import numpy as np
 
 from mobilemani_rl.envs.config import RewardWeights, SuccessCfg
 from mobilemani_rl.envs.frames import EnvRows, Frames
-from mobilemani_rl.rotations import (
+from mobilemani_rl.utils.rotations import (
     euler_from_quat,
     quat_between_vectors,
     quat_conj,

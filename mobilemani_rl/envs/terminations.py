@@ -9,7 +9,7 @@ import numpy as np
 from mobilemani_rl.envs.config import SuccessCfg
 from mobilemani_rl.envs.frames import Frames
 from mobilemani_rl.envs.rewards import TaskDistances
-from mobilemani_rl.rotations import vector_norm
+from mobilemani_rl.utils.rotations import vector_norm
 
 
 def time_out_or_held_success(

@@ -1,1 +1,2 @@
-"""PPO teacher training on rsl-rl: configs, runner, run directories."""
+"""PPO teachers on rsl-rl: configs, runner, warm start, run directories, the train and eval entry points, the
+teacher sweep and tables, and the PPO benchmark."""

@@ -20,11 +20,11 @@ import numpy as np
 from hydra import compose, initialize_config_dir
 
 from mobilemani_rl.assets.robots import ROBOTS
-from mobilemani_rl.bench import interleaved_rates, print_report, raw_physics_replay
-from mobilemani_rl.cli import count, entry_point
+from mobilemani_rl.envs.bench import interleaved_rates, print_report, raw_physics_replay
 from mobilemani_rl.rl.config import RLCfg, update_precision
 from mobilemani_rl.rl.factory import build_runner
-from mobilemani_rl.schema import CONF_DIR, group_options, to_dataclass
+from mobilemani_rl.utils.cli import count, entry_point
+from mobilemani_rl.utils.config_store import CONF_DIR, group_options, to_dataclass
 
 
 def bench_preset(preset: str, robot: str, iterations: int, variant: str = "-") -> dict:

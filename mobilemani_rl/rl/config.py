@@ -8,7 +8,8 @@ import copy
 from dataclasses import dataclass, field, fields
 
 from mobilemani_rl.envs.config import EnvCfg, EnvParamsCfg, TaskCfg, check_env_block
-from mobilemani_rl.registry import (
+from mobilemani_rl.utils.config_store import register_schema
+from mobilemani_rl.utils.errors import (
     SEED_RULE,
     InputError,
     UnknownNameError,
@@ -18,7 +19,6 @@ from mobilemani_rl.registry import (
     check_values,
     is_seed,
 )
-from mobilemani_rl.schema import register_schema
 
 LOGGERS = ("tensorboard", "wandb")
 SCHEDULES = ("adaptive", "fixed")  # rsl-rl's PPO learning-rate schedules
@@ -92,7 +92,8 @@ class RlGroupCfg:
 
 @dataclass
 class RLCfg:
-    """conf/rl.yaml's schema: a training run (python -m mobilemani_rl.train), also its saved config.yaml."""
+    """conf/rl.yaml's schema: a training run (python -m mobilemani_rl.rl.train), also its saved
+    config.yaml."""
 
     task: TaskCfg = field(default_factory=TaskCfg)
     env: EnvParamsCfg = field(default_factory=EnvParamsCfg)
@@ -206,7 +207,7 @@ class RLCfg:
 
 @dataclass
 class EvalRlCfg:
-    """conf/eval_rl.yaml's schema (python -m mobilemani_rl.eval)."""
+    """conf/eval_rl.yaml's schema (python -m mobilemani_rl.rl.eval)."""
 
     checkpoint: str | None = None  # a model_*.pt of a training run
     episodes: int = 256  # per evaluated object; the paper evaluates 1024

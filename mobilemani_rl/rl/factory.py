@@ -15,7 +15,7 @@ from mobilemani_rl.envs.multi_object import MultiObjectEnv
 from mobilemani_rl.envs.vecenv import RslRlVecEnv
 from mobilemani_rl.rl.config import RLCfg, rsl_rl_train_cfg
 from mobilemani_rl.rl.runner import MobileManiRunner
-from mobilemani_rl.schema import to_dataclass
+from mobilemani_rl.utils.config_store import to_dataclass
 
 
 def policy_objects(task_object: str, max_objects: int) -> list[str] | None:

@@ -15,8 +15,8 @@ from pathlib import Path
 
 from omegaconf import DictConfig, OmegaConf
 
-from mobilemani_rl.registry import ConfigMismatchError
-from mobilemani_rl.schema import changed_values, dotted_value
+from mobilemani_rl.utils.config_store import changed_values, dotted_value
+from mobilemani_rl.utils.errors import ConfigMismatchError
 
 CONFIG = "config.yaml"
 RESULT = "result.json"
@@ -25,7 +25,6 @@ WARM_START = "warm_start.json"  # behaviour-cloning statistics, when the run sta
 WARM_START_CHECKPOINT = (
     "warm_start.pt"  # the runner right after the warm start (minutes of work a rerun keeps)
 )
-TRAIN_LOCK = "train.lock"  # held by the process training the run (mobilemani_rl.writer_lock)
 _CHECKPOINT = re.compile(r"model_(\d+)\.pt$")
 
 

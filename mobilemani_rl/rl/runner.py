@@ -16,9 +16,9 @@ from rsl_rl.runners import OnPolicyRunner
 from rsl_rl.utils.logger import Logger
 from tqdm import tqdm
 
-from mobilemani_rl.io import read_json, write_json_atomic
-from mobilemani_rl.registry import InputError, first_sentence
 from mobilemani_rl.rl.run_dir import CURVE
+from mobilemani_rl.utils.errors import InputError, first_sentence
+from mobilemani_rl.utils.io import read_json, write_json_atomic
 
 SUCCESS_KEY = "/episode/success_flag"
 

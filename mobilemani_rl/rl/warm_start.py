@@ -24,10 +24,10 @@ from mobilemani_rl.envs.actions import dart_perturbed
 from mobilemani_rl.envs.batched import BatchedEnv
 from mobilemani_rl.envs.mobilemani_env import MobileManiEnv, StepResult
 from mobilemani_rl.envs.multi_object import MultiObjectEnv
+from mobilemani_rl.envs.rollout import run_first_episodes
 from mobilemani_rl.rl.config import WarmStartCfg
 from mobilemani_rl.rl.runner import torch_threads
-from mobilemani_rl.rollout import run_first_episodes
-from mobilemani_rl.scripted import ScriptedPolicy
+from mobilemani_rl.scripted.policy import ScriptedPolicy
 
 
 @dataclass

@@ -4,7 +4,7 @@ from mobilemani_rl.assets.objects.catalog import CATALOG, CATEGORIES, SPLITS, Ta
 from mobilemani_rl.assets.objects.categories import ALL_SKILLS, CATEGORY_PARAMS, ObjectKind, Place
 from mobilemani_rl.assets.objects.handmade import TEST_OBJECTS
 from mobilemani_rl.assets.objects.model import ObjectKinematics, ObjectModel
-from mobilemani_rl.registry import UnknownNameError, check_choice
+from mobilemani_rl.utils.errors import UnknownNameError, check_choice
 
 OBJECTS: dict[str, ObjectModel] = {**TEST_OBJECTS, **CATALOG}
 

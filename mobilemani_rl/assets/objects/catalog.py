@@ -17,7 +17,7 @@ import numpy as np
 from mobilemani_rl.assets.objects.categories import SKILLS_BY_KIND, ObjectKind
 from mobilemani_rl.assets.objects.generators import GENERATORS
 from mobilemani_rl.assets.objects.model import ObjectModel
-from mobilemani_rl.registry import check_choice
+from mobilemani_rl.utils.errors import check_choice
 
 SPLIT_COUNTS: dict[str, tuple[int, int]] = {  # category: (train, test)
     "box": (10, 4),

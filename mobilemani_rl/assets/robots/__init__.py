@@ -3,7 +3,7 @@
 from mobilemani_rl.assets.robots.description import RobotDescription
 from mobilemani_rl.assets.robots.g1 import G1
 from mobilemani_rl.assets.robots.xhand import XHAND
-from mobilemani_rl.registry import lookup
+from mobilemani_rl.utils.errors import lookup
 
 ROBOTS: dict[str, RobotDescription] = {"g1": G1, "xhand": XHAND}
 

@@ -8,7 +8,7 @@ import mujoco
 import numpy as np
 
 from mobilemani_rl.assets.collision import ROBOT_CONTACT
-from mobilemani_rl.rotations import quat_from_matrix
+from mobilemani_rl.utils.rotations import quat_from_matrix
 
 BOX, CAPSULE = mujoco.mjtGeom.mjGEOM_BOX, mujoco.mjtGeom.mjGEOM_CAPSULE
 HINGE, SLIDE = mujoco.mjtJoint.mjJNT_HINGE, mujoco.mjtJoint.mjJNT_SLIDE

@@ -7,7 +7,7 @@ from dataclasses import dataclass, field
 
 import mujoco
 
-from mobilemani_rl.scripted_config import ScriptedPolicyCfg
+from mobilemani_rl.assets.robots.scripted_tuning import ScriptedPolicyCfg
 
 
 @dataclass(frozen=True)

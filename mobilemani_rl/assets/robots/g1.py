@@ -12,7 +12,7 @@ pitch lowers that by 4-5 cm (0.31 m at 20-30°, 0.23 m at 40-50°; 200k random j
 palm ahead of the shoulder). Grips and goals on the lowest placements (0.24-0.43 m: washing machines, low
 tabletop doors, lids and faucets, dropped oven and dishwasher doors) are past the forward palm's reach, so the
 scripted policy approaches them with the palm pitched down (ScriptedPolicyCfg.low_grip_*; without it 11 of the
-39 rows of python -m mobilemani_rl.scripted_table --robots g1 fall below 3/3 objects;
+39 rows of python -m mobilemani_rl.scripted.table --robots g1 fall below 3/3 objects;
 docs/results/fidelity.md).
 
 Frame conventions (robot root frame): forward +y, right +x, up +z, as the reference robot whose +y faces the
@@ -44,9 +44,9 @@ from mobilemani_rl.assets.robots.builder import (
     add_position_actuator,
 )
 from mobilemani_rl.assets.robots.description import RobotDescription
+from mobilemani_rl.assets.robots.scripted_tuning import ScriptedPolicyCfg
 from mobilemani_rl.assets.robots.urdf import G1_URDF, Urdf, UrdfJoint, load_urdf, quat_from_rpy
-from mobilemani_rl.rotations import quat_mul
-from mobilemani_rl.scripted_config import ScriptedPolicyCfg
+from mobilemani_rl.utils.rotations import quat_mul
 
 ARM_JOINTS = tuple(f"idx6{i}_arm_r_joint{i}" for i in range(1, 8))
 ARM_LINKS = tuple(f"arm_r_link{i}" for i in range(1, 8))

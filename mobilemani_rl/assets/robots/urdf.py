@@ -10,7 +10,7 @@ from pathlib import Path
 
 import numpy as np
 
-from mobilemani_rl.rotations import quat_from_matrix
+from mobilemani_rl.utils.rotations import quat_from_matrix
 
 # third_party/ sits at the repository root, next to the package (the project is installed editable).
 THIRD_PARTY = Path(__file__).resolve().parents[3] / "third_party"

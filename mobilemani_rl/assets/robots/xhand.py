@@ -32,7 +32,7 @@ from mobilemani_rl.assets.robots.builder import (
     add_position_actuator,
 )
 from mobilemani_rl.assets.robots.description import RobotDescription
-from mobilemani_rl.scripted_config import ScriptedPolicyCfg
+from mobilemani_rl.assets.robots.scripted_tuning import ScriptedPolicyCfg
 
 ARM_JOINTS = tuple(f"right_arm_joint{i}" for i in range(1, 8))
 ARM_LIMITS = (

@@ -14,7 +14,7 @@ import numpy as np
 
 from mobilemani_rl.assets.objects import ObjectModel, Place
 from mobilemani_rl.assets.scenes.styles import INDOOR_STYLES, PARKING_LOT
-from mobilemani_rl.registry import UnknownNameError
+from mobilemani_rl.utils.errors import UnknownNameError
 
 TRAIN_PER_SETTING, TEST_PER_SETTING = 16, 4
 SUPPORT_HEIGHT_RANGE = (0.22, 0.76)  # tabletop table heights in the reference rooms

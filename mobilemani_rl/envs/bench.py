@@ -1,0 +1,134 @@
+"""Environment throughput against the raw physics limit, measured in the same run.
+
+    python -m mobilemani_rl.envs.bench [--robots g1 xhand] [--envs 64 256 1024] [--seconds 3]
+
+env: `MobileManiEnv.step` with random actions (IK, physics, observations, rewards, resets).
+raw: the same compiled model in a `mujoco.batch.Batch` of the same size and thread count replaying the joint
+targets the env produced (same start state, same motion), in one `Batch.rollout` call per 32 control steps, so
+with no Python work between steps.
+Both report control steps per second (x substeps = physics steps per second), best of interleaved trials.
+Prints a table and JSON.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import time
+from collections.abc import Callable
+
+import mujoco
+import mujoco.batch
+import numpy as np
+
+from mobilemani_rl.assets.robots import ROBOTS
+from mobilemani_rl.envs.config import EnvCfg, TaskCfg
+from mobilemani_rl.envs.mobilemani_env import MobileManiEnv
+from mobilemani_rl.utils.cli import count, entry_point, seconds
+
+
+def interleaved_rates(
+    steppers: dict[str, tuple[Callable[[], None], int]], n: int, seconds: float, trials: int = 6
+) -> dict[str, float]:
+    """Best env-steps/s of each stepper (a call and the control steps it advances); trials alternate between
+    steppers so that background load drifts affect them alike."""
+    for step, _ in steppers.values():
+        step()
+    best = dict.fromkeys(steppers, 0.0)
+    budget = seconds / (trials * len(steppers))
+    for _ in range(trials):
+        for name, (step, per_call) in steppers.items():
+            start, done = time.perf_counter(), 0
+            while time.perf_counter() - start < budget:
+                step()
+                done += per_call
+            best[name] = max(best[name], done * n / (time.perf_counter() - start))
+    return best
+
+
+def raw_physics_replay(
+    env: MobileManiEnv,
+    rng: np.random.Generator,
+    segment: int = 32,
+) -> tuple[Callable[[], None], int]:
+    """The raw physics limit for the env's own workload: record the joint targets the env sends while it steps
+    `segment` control steps of random actions, then replay them in a fresh `mujoco.batch.Batch` of the same
+    model, size and threads with one `Batch.rollout` call (no Python between steps),
+    from the same start state.
+
+    Replaying the env's controls keeps the physics work equal (moving arms, contacts); a batch stepped with
+    fixed controls settles and measures a cheaper, idle robot.
+    """
+    fields = ("qpos", "qvel", "ctrl", "mocap_pos", "mocap_quat")
+    start = {f: env.batch.bind(f).copy() for f in fields}
+    controls = np.empty((env.num_envs, segment, env.model.nu))
+    for k in range(segment):
+        env.step(rng.uniform(-1, 1, (env.num_envs, env.num_actions)))
+        controls[:, k] = env.view.ctrl
+    substeps = env.cfg.physics.substeps
+    per_substep = np.repeat(controls, substeps, axis=1)
+    raw = mujoco.batch.Batch(env.model, env.num_envs, nthread=env.cfg.physics.nthread)
+
+    def replay() -> None:
+        for field, value in start.items():
+            raw.bind(field)[:] = value
+        raw.rollout(segment * substeps, control=per_substep, control_spec=mujoco.mjtState.mjSTATE_CTRL)
+
+    return replay, segment
+
+
+def bench_task(robot: str, num_envs: int, seconds: float, obj: str = "test/box", skill: str = "open") -> dict:
+    env = MobileManiEnv(EnvCfg(num_envs=num_envs, task=TaskCfg(robot=robot, object=obj, skill=skill)))
+    env.reset()
+    rng = np.random.default_rng(0)
+    actions = rng.uniform(-1, 1, (64, num_envs, env.num_actions))
+    counter = iter(range(1 << 62))
+
+    def env_step() -> None:
+        env.step(actions[next(counter) % len(actions)])
+
+    substeps = env.cfg.physics.substeps
+    raw = raw_physics_replay(env, rng)
+    rates = interleaved_rates({"env": (env_step, 1), "raw": raw}, num_envs, seconds)
+    env_rate, raw_rate = rates["env"], rates["raw"]
+    return {
+        "robot": robot,
+        "num_envs": num_envs,
+        "substeps": substeps,
+        "timestep": env.model.opt.timestep,
+        "env_steps_per_s": round(env_rate),
+        "raw_steps_per_s": round(raw_rate),
+        "raw_physics_steps_per_s": round(raw_rate * substeps),
+        "env_over_raw": round(env_rate / raw_rate, 3),
+    }
+
+
+def print_report(benchmark: str, results: list[dict], header: str, row: str) -> None:
+    """A table (`row` formatted with each result's keys under `header`), then the results as JSON."""
+    print(header)
+    for r in results:
+        print(row.format(**r))
+    print(json.dumps({"benchmark": benchmark, "results": results}, indent=2))
+
+
+@entry_point
+def main(argv: list[str] | None = None) -> list[dict]:
+    parser = argparse.ArgumentParser(
+        description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter
+    )
+    parser.add_argument("--robots", nargs="+", default=["g1", "xhand"], choices=sorted(ROBOTS))
+    parser.add_argument("--envs", nargs="+", type=count, default=[64, 256, 1024])
+    parser.add_argument("--seconds", type=seconds, default=6.0, help="timing budget per (robot, envs) pair")
+    args = parser.parse_args(argv)
+    results = [bench_task(r, n, args.seconds) for r in args.robots for n in args.envs]
+    print_report(
+        "sim",
+        results,
+        f"{'robot':6} {'envs':>5} {'env steps/s':>12} {'raw steps/s':>12} {'env/raw':>8}",
+        "{robot:6} {num_envs:5d} {env_steps_per_s:12d} {raw_steps_per_s:12d} {env_over_raw:8.2f}",
+    )
+    return results
+
+
+if __name__ == "__main__":
+    main()

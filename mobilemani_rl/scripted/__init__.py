@@ -1,0 +1,1 @@
+"""The scripted reference policy (privileged task state -> actions) and its success table."""

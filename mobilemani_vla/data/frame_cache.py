@@ -1,0 +1,127 @@
+"""Decoded camera frames of a LeRobot dataset, cached next to it so that VLA training is compute-bound.
+
+Decoding four video streams costs ~20 ms per randomly accessed sample; the cache decodes every episode once,
+sequentially, resizes the frames to the model's input size and keeps them as one uint8 array
+`<dataset>/vla_cache/<cameras>_<size>px/images.npy` of shape (frames, cameras, 3, size, size), read through a
+memory map. A manifest records a fingerprint of the files the frames come from (videos, episode metadata); a
+cache whose fingerprint no longer matches is rebuilt. The cache is built under a temporary name and renamed
+when complete, so an interrupted build is never used; runs started together on one dataset take turns, so the
+first builds the cache and the others read it.
+"""
+
+from __future__ import annotations
+
+import fcntl
+import hashlib
+import json
+import shutil
+from pathlib import Path
+
+import numpy as np
+import torch
+from lerobot.datasets.dataset_metadata import LeRobotDatasetMetadata
+from lerobot.datasets.video_utils import decode_video_frames
+from tqdm import tqdm
+
+from mobilemani_data.metadata import VIDEO_DECODE_ERRORS
+from mobilemani_rl.utils.errors import InputError, first_sentence
+from mobilemani_rl.utils.io import read_json
+from mobilemani_vla.model.processor import camera_key, resize_images
+
+CACHE_DIR = "vla_cache"
+MANIFEST = "manifest.json"
+IMAGES = "images.npy"
+TOLERANCE_S = 1e-4  # LeRobotDataset's default timestamp tolerance
+FRAME_SOURCES = ("meta/info.json", "meta/episodes", "videos")  # what the cached frames are decoded from
+
+
+def dataset_fingerprint(root: Path) -> str:
+    """A digest of the files the cached frames come from (path, size, modification time): the videos and the
+    metadata that places each episode in them. Reports written beside them (statistics, which `make data`
+    rewrites on every run) change no frame."""
+    digest = hashlib.sha256()
+    for source in FRAME_SOURCES:
+        top = root / source
+        for path in sorted([top] if top.is_file() else (p for p in top.rglob("*") if p.is_file())):
+            stat = path.stat()
+            digest.update(f"{path.relative_to(root)}:{stat.st_size}:{stat.st_mtime_ns}\n".encode())
+    return digest.hexdigest()
+
+
+def cache_dir(root: Path, cameras: list[str], size: int) -> Path:
+    return root / CACHE_DIR / f"{'+'.join(cameras)}_{size}px"
+
+
+def _decode_episode(
+    root: Path, meta: LeRobotDatasetMetadata, episode: dict, camera: str, backend: str
+) -> torch.Tensor:
+    """All frames of one episode's camera stream, (length, 3, H, W) uint8."""
+    key = camera_key(camera)
+    start = episode[f"videos/{key}/from_timestamp"]
+    timestamps = (start + np.arange(episode["length"]) / meta.fps).tolist()
+    path = root / meta.get_video_file_path(episode["episode_index"], key)
+    try:
+        return decode_video_frames(path, timestamps, TOLERANCE_S, backend, return_uint8=True)
+    except VIDEO_DECODE_ERRORS as err:
+        raise InputError(
+            f"episode {episode['episode_index']}'s {key} frames do not decode from {path} "
+            f"({first_sentence(err)}); the video is damaged: export the dataset again"
+        ) from err
+
+
+def _build(
+    root: Path,
+    meta: LeRobotDatasetMetadata,
+    cameras: list[str],
+    size: int,
+    backend: str,
+    target: Path,
+    fingerprint: str,
+    progress: bool,
+) -> None:
+    tmp = target.with_name(target.name + ".partial")
+    shutil.rmtree(tmp, ignore_errors=True)
+    tmp.mkdir(parents=True)
+    images = np.lib.format.open_memmap(
+        tmp / IMAGES, mode="w+", dtype=np.uint8, shape=(meta.total_frames, len(cameras), 3, size, size)
+    )
+    for episode in tqdm(
+        meta.episodes, desc=f"frame cache {target.name}", unit="episode", disable=not progress
+    ):
+        rows = slice(episode["dataset_from_index"], episode["dataset_to_index"])
+        for k, camera in enumerate(cameras):
+            frames = resize_images(
+                _decode_episode(root, meta, episode, camera, backend).float() / 255.0, size
+            )
+            images[rows, k] = (frames * 255.0).round().clamp(0, 255).to(torch.uint8).numpy()
+    images.flush()
+    del images
+    (tmp / MANIFEST).write_text(
+        json.dumps(
+            {"fingerprint": fingerprint, "cameras": cameras, "size": size, "frames": meta.total_frames},
+            indent=1,
+        )
+    )
+    shutil.rmtree(target, ignore_errors=True)
+    tmp.rename(target)
+
+
+def cached_images(
+    root: Path,
+    meta: LeRobotDatasetMetadata,
+    cameras: list[str],
+    size: int,
+    backend: str = "pyav",
+    progress: bool = True,
+) -> np.ndarray:
+    """(frames, len(cameras), 3, size, size) uint8 in dataset index order; built on first use or when the
+    dataset changed, otherwise read from disk."""
+    target = cache_dir(root, cameras, size)
+    target.parent.mkdir(parents=True, exist_ok=True)
+    fingerprint = dataset_fingerprint(root)
+    manifest = target / MANIFEST
+    with target.with_name(target.name + ".lock").open("a") as lock:
+        fcntl.flock(lock, fcntl.LOCK_EX)  # waits for a build in progress; released when the file closes
+        if not manifest.is_file() or read_json(manifest).get("fingerprint") != fingerprint:
+            _build(root, meta, cameras, size, backend, target, fingerprint, progress)
+    return np.load(target / IMAGES, mmap_mode="r")

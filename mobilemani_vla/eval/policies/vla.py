@@ -1,0 +1,49 @@
+"""MobileManiVLA as an evaluation policy: its cameras and base-frame states in,
+base-frame action chunks out."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+import torch
+
+from mobilemani_rl.envs.mobilemani_env import MobileManiEnv
+from mobilemani_vla.checkpoint import recorded_image_size
+from mobilemani_vla.eval.policies.base import TASK, EvalPolicy, Observation, active_rows, scatter_rows
+from mobilemani_vla.inference import VLAPolicy
+from mobilemani_vla.model.processor import camera_key
+
+
+class VLAEvalPolicy(EvalPolicy):
+    name = "vla"
+    action_frame = "base"
+
+    def __init__(self, checkpoint: str | Path, device: str = "cpu", batch_size: int = 16) -> None:
+        self.policy = VLAPolicy.load(checkpoint, device)
+        self.image_size = recorded_image_size(checkpoint)  # render as the training data was rendered
+        self.batch_size = batch_size
+        self.action_dim = self.policy.cfg.action_dim
+        self.chunk_length = self.policy.cfg.diffusion.chunk
+        self.inputs = frozenset(
+            {camera_key(c) for c in self.policy.cameras} | set(self.policy.vector_inputs) | {TASK}
+        )
+
+    def start(self, env: MobileManiEnv, seed: int) -> None:
+        # Diffusion noise, reproducible per batch;
+        # on the model's device so CUDA sampling needs no host copies.
+        self.generator = torch.Generator(self.policy.device).manual_seed(seed)
+
+    def act(self, obs: Observation) -> np.ndarray:
+        rows = active_rows(obs)
+        chunks = []
+        for part in np.array_split(rows, max(1, -(-len(rows) // self.batch_size))):
+            if part.size:
+                images = {c: obs[camera_key(c)][part] for c in self.policy.cameras}
+                vectors = {k: obs[k][part] for k in self.policy.vector_inputs}
+                chunks.append(
+                    self.policy.predict_action_chunks(
+                        images, [obs[TASK][i] for i in part], vectors, self.generator
+                    )
+                )
+        return scatter_rows(rows, np.concatenate(chunks), len(obs[TASK]))

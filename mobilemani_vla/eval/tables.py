@@ -1,0 +1,365 @@
+"""MobileManiVLA (closed-loop evaluation) tables and bar plots, laid out like the paper's, from results files.
+
+    python -m mobilemani_vla.eval.tables [outputs/eval] [--out outputs/tables/vla] [--main default]
+
+Reads <root>/<robot>/<run>/<split>.jsonl written by `python -m mobilemani_vla.eval.evaluate` (run = the eval
+`name`, by convention the training experiment's name) and writes Markdown + LaTeX for: success per skill and
+per category (run `--main`, unseen objects x unseen scenes), the image- and state-input ablations (runs named
+like conf/experiment/ablation_*), seen/unseen objects x scenes (run `--split-run`, its four split files) and
+the model comparison (runs named in MODELS, then every other run), plus PNG bar plots. Paper numbers sit
+beside ours; a '-' marks a result not evaluated yet, and the results files those cells wanted are listed at
+the end; `--out` is checked for writability before any result is read. A table that counts a results file
+whose evaluation has not ended (running or stopped: no summary of all its records) names it in its caption,
+with its episodes so far.
+"""
+
+from __future__ import annotations
+
+import argparse
+from collections.abc import Callable
+from pathlib import Path
+
+import numpy as np
+from matplotlib.axes import Axes
+from matplotlib.figure import Figure  # the object API: no pyplot backend to select, nothing global changed
+
+from mobilemani_rl.assets.objects import CATEGORIES, catalog_ids
+from mobilemani_rl.utils.cli import entry_point
+from mobilemani_rl.utils.io import check_writable
+from mobilemani_rl.utils.table_format import Table, pct
+from mobilemani_vla.eval.results import SKILL_GROUPS, finished, read_records, summarize
+
+ROBOTS = ("g1", "xhand")
+SKILLS = ("open", "close", "pull", "push", "pick")
+COLORS = {"g1": "tab:blue", "xhand": "tab:red"}  # ours solid, the paper's the same colour faded
+GROUPS = tuple(dict.fromkeys(SKILL_GROUPS.values()))  # open/pull/pick, close/push
+PROTOCOL_SPLIT = "test_objects_test_scenes"
+# Paper, MobileManiVLA per skill (G1, XHand) and mean.
+PAPER_BY_SKILL = {
+    "open": (42.9, 34.5),
+    "close": (75.8, 77.5),
+    "pull": (34.4, 29.4),
+    "push": (85.1, 90.0),
+    "pick": (28.8, 40.2),
+    "mean": (56.7, 57.3),
+}
+# Paper, MobileManiVLA per category: open/pull/pick G1, XHand; close/push G1, XHand.
+PAPER_BY_CATEGORY = {
+    "box": (55.0, 22.5, 61.9, 95.0),
+    "toilet": (63.5, 42.0, 64.5, 95.0),
+    "laptop": (74.6, 64.6, 67.9, 98.8),
+    "trashcan": (41.4, 37.9, 51.8, 76.4),
+    "dishwasher": (93.5, 86.0, 99.5, 97.0),
+    "oven": (93.8, 77.5, 90.0, 97.5),
+    "microwave": (32.5, 42.5, 42.2, 85.0),
+    "refrigerator": (18.1, 12.8, 91.3, 77.5),
+    "washing_machine": (40.0, 67.5, 65.0, 67.5),
+    "car": (28.7, 26.2, 97.5, 90.0),
+    "safe": (35.6, 30.0, 96.9, 98.8),
+    "fridge": (37.5, 10.0, 95.0, 95.0),
+    "cabinet": (40.0, 33.8, 91.2, 91.2),
+    "window": (34.2, 11.7, 90.8, 94.2),
+    "lever_door": (55.6, 58.1, 94.0, 94.5),
+    "round_door": (41.0, 71.5, 92.5, 95.7),
+    "faucet": (41.4, 31.7, 34.3, 38.1),
+    "table": (25.8, 19.7, 96.4, 93.9),
+    "cart": (34.4, 29.4, 85.0, 90.0),
+    "holistic": (28.8, 40.2, None, None),
+}
+CAMERAS = ("head_rgb", "head_depth", "wrist_rgb", "wrist_depth")
+STATES = ("wrist_pose", "grasp_point", "goal_point")
+# Ablation rows: run name, cameras, states, paper success (G1, ablation subset).
+IMAGE_ABLATION = [
+    ("ablation_image_head_rgb", CAMERAS[:1], STATES[:1], 7.9),
+    ("ablation_image_head_rgbd", CAMERAS[:2], STATES[:1], 14.1),
+    ("ablation_image_head_wrist_rgb", ("head_rgb", "wrist_rgb"), STATES[:1], 14.9),
+    ("ablation_image_all", CAMERAS, STATES[:1], 28.2),
+]
+STATE_ABLATION = [
+    ("ablation_state_none", CAMERAS, (), 22.4),
+    ("ablation_state_wrist_pose", CAMERAS, STATES[:1], 28.2),
+    ("ablation_state_grasp_point", CAMERAS, STATES[:2], 32.3),
+    ("ablation_state_goal_point", CAMERAS, STATES, 36.6),
+]
+# Seen/unseen rows: split file, label, paper success.
+SPLITS = [
+    ("train_objects_train_scenes", "seen objects, seen scenes", 59.6),
+    ("train_objects_test_scenes", "seen objects, unseen scenes", 51.3),
+    ("test_objects_train_scenes", "unseen objects, seen scenes", 39.2),
+    (PROTOCOL_SPLIT, "unseen objects, unseen scenes", 28.2),
+]
+# Model comparison: label, run name, paper success (G1, ablation subset).
+MODELS = [
+    ("OpenVLA (7B)", "openvla", 4.5),
+    ("CogACT (7B)", "cogact", 6.8),
+    ("pi0 (3B)", "pi0", 11.2),
+    ("pi0.5 (3B)", "pi05", 18.8),
+    ("MobileManiVLA", "ablation_image_all", 28.2),
+]
+
+
+class RecordingResults(dict):
+    """The loaded results, noting every (robot, run, split) a table looks up: the tables name their inputs
+    in one place (their own code), so the missing ones can be reported and the unfinished ones marked."""
+
+    def __init__(self, results: dict) -> None:
+        super().__init__(results)
+        self.missing: set[tuple[str, str, str]] = set()
+        self.used: set[tuple[str, str, str]] = set()
+
+    def get(self, key, default=None):
+        (self.used if key in self else self.missing).add(key)
+        return super().get(key, default)
+
+    def unfinished(self, keys: set[tuple[str, str, str]]) -> str:
+        """Those of `keys` whose evaluation has not ended, as printed:
+        'g1/default/test_objects_test_scenes (4790 episodes so far), ...'."""
+        return ", ".join(
+            f"{'/'.join(key)} ({self[key]['episodes']} episodes so far)"
+            for key in sorted(keys)
+            if not self[key]["finished"]
+        )
+
+
+def load(root: Path) -> RecordingResults:
+    """(robot, run, split) -> summary of that results file, and whether its evaluation ran to its end."""
+    loaded = {}
+    for path in sorted(root.glob("*/*/*.jsonl")):
+        records = read_records(path)
+        loaded[(path.parts[-3], path.parts[-2], path.stem)] = {
+            **summarize(records),
+            "finished": finished(path, records),
+        }
+    return RecordingResults(loaded)
+
+
+def rate(summary: dict | None, *path: str) -> float | None:
+    node = summary
+    for key in path:
+        if not node or key not in node:
+            return None
+        node = node[key]
+    return node["success_rate"]
+
+
+def num(value: float | None) -> str:
+    return "-" if value is None else f"{value:.1f}"
+
+
+def check(flag: bool) -> str:
+    return "x" if flag else ""
+
+
+def skill_table(results: dict, run: str) -> Table:
+    rows = []
+    for skill in (*SKILLS, "mean"):
+        path = ("overall",) if skill == "mean" else ("per_skill", skill)
+        ours = [rate(results.get((robot, run, PROTOCOL_SPLIT)), *path) for robot in ROBOTS]
+        rows.append([skill.title(), *map(pct, ours), *map(num, PAPER_BY_SKILL[skill])])
+    return Table(
+        ["Skill", "G1", "XHand", "G1 (paper)", "XHand (paper)"],
+        rows,
+        f"Success rates (%) of run '{run}' (paper: MobileManiVLA) on unseen objects and scenes per skill.",
+        separators=(len(SKILLS),),
+    )
+
+
+def category_rates(results: dict, run: str, category: str) -> list[float | None]:
+    return [
+        rate(results.get((robot, run, PROTOCOL_SPLIT)), "per_category_skill_group", f"{category}|{group}")
+        for group in GROUPS
+        for robot in ROBOTS
+    ]
+
+
+def category_table(results: dict, run: str) -> Table:
+    rows = [
+        [
+            c.replace("_", " ").title(),
+            str(len(catalog_ids(c, "test"))),
+            *map(pct, category_rates(results, run, c)),
+            *map(num, PAPER_BY_CATEGORY[c]),
+        ]
+        for c in CATEGORIES
+    ]
+    cols = [f"{g.title()} {r}" for g in ("Open/Pull/Pick", "Close/Push") for r in ("G1", "XHand")]
+    return Table(
+        ["Object", "Test", *cols, *(f"{c} (paper)" for c in cols)],
+        rows,
+        f"Success rates (%) of run '{run}' (paper: MobileManiVLA) per category on unseen objects and scenes.",
+    )
+
+
+def ablation_table(results: dict, rows: list, caption: str) -> Table:
+    body = [
+        [
+            *(check(c in cams) for c in CAMERAS),
+            *(check(s in states) for s in STATES),
+            pct(rate(results.get(("g1", run, PROTOCOL_SPLIT)), "overall")),
+            num(paper),
+        ]
+        for run, cams, states, paper in rows
+    ]
+    header = [
+        "Head RGB",
+        "Head Depth",
+        "Wrist RGB",
+        "Wrist Depth",
+        "Wrist Pose",
+        "Grasp Point",
+        "Goal Point",
+        "Success",
+        "Paper",
+    ]
+    return Table(header, body, caption)
+
+
+def split_table(results: dict, run: str) -> Table:
+    rows = [
+        [label, pct(rate(results.get(("g1", run, split)), "overall")), num(paper)]
+        for split, label, paper in SPLITS
+    ]
+    return Table(
+        ["Objects / scenes", "Success", "Paper"],
+        rows,
+        f"Success rates (%) of run '{run}' (G1) on seen or unseen objects and scenes.",
+    )
+
+
+def model_table(results: dict) -> Table:
+    named = {run for _, run, _ in MODELS}
+    rows = [
+        [label, pct(rate(results.get(("g1", run, PROTOCOL_SPLIT)), "overall")), num(paper)]
+        for label, run, paper in MODELS
+    ]
+    others = sorted(
+        {run for robot, run, split in results if robot == "g1" and split == PROTOCOL_SPLIT} - named
+    )
+    rows += [[run, pct(rate(results[("g1", run, PROTOCOL_SPLIT)], "overall")), "-"] for run in others]
+    return Table(
+        ["Model", "Success", "Paper"],
+        rows,
+        "Policies on the G1 robot on unseen objects and scenes (our runs; paper models by run name).",
+        separators=(len(MODELS),) if others else (),
+    )
+
+
+def _robot_bars(
+    ax: Axes, x: np.ndarray, k: int, robot: str, ours: list[float | None], paper: list[float | None]
+) -> None:
+    """Robot k's two bars at each x: ours (fractions) solid, the paper's (percent) faded; None: a gap."""
+    ax.bar(
+        x + (2 * k - 1.5) * 0.2,
+        [np.nan if v is None else 100 * v for v in ours],
+        0.2,
+        label=f"{robot} (ours)",
+        color=COLORS[robot],
+    )
+    ax.bar(
+        x + (2 * k - 0.5) * 0.2,
+        [np.nan if v is None else v for v in paper],
+        0.2,
+        label=f"{robot} (paper)",
+        color=COLORS[robot],
+        alpha=0.35,
+    )
+
+
+def bar_plots(results: dict, run: str, out: Path) -> list[Path]:
+    """Per-category success (ours vs paper, G1 and XHand) for both skill groups, and per-skill success."""
+    paths = []
+    fig = Figure(figsize=(14, 8))
+    axes = fig.subplots(2, 1, sharey=True)
+    x = np.arange(len(CATEGORIES))
+    for g, (ax, group) in enumerate(zip(axes, GROUPS, strict=True)):
+        for k, robot in enumerate(ROBOTS):
+            ours = [category_rates(results, run, c)[2 * g + k] for c in CATEGORIES]
+            paper = [PAPER_BY_CATEGORY[c][2 * g + k] for c in CATEGORIES]
+            _robot_bars(ax, x, k, robot, ours, paper)
+        ax.set_title(f"{group}: success per category ({run}, unseen objects x unseen scenes)")
+        ax.set_xticks(
+            x, [c.replace("_", " ") for c in CATEGORIES], rotation=30, ha="right", rotation_mode="anchor"
+        )
+        ax.set_ylabel("success (%)")
+        ax.set_ylim(0, 100)
+    fig.legend(*axes[0].get_legend_handles_labels(), loc="upper center", ncol=4, fontsize=9)
+    fig.tight_layout(rect=(0, 0, 1, 0.96))
+    paths.append(out / "vla_by_category.png")
+    fig.savefig(paths[-1], dpi=120)
+
+    fig = Figure(figsize=(8, 4))
+    ax = fig.subplots()
+    x = np.arange(len(SKILLS))
+    for k, robot in enumerate(ROBOTS):
+        ours = [rate(results.get((robot, run, PROTOCOL_SPLIT)), "per_skill", s) for s in SKILLS]
+        _robot_bars(ax, x, k, robot, ours, [PAPER_BY_SKILL[s][k] for s in SKILLS])
+    ax.set_xticks(x, SKILLS)
+    ax.set_ylabel("success (%)")
+    ax.set_ylim(0, 110)
+    ax.set_title(f"Success per skill ({run}, unseen objects x unseen scenes)")
+    ax.legend(ncol=4, fontsize=8, loc="upper center")
+    fig.tight_layout()
+    paths.append(out / "vla_by_skill.png")
+    fig.savefig(paths[-1], dpi=120)
+    return paths
+
+
+def build_tables(results: RecordingResults, main_run: str, split_run: str) -> dict[str, Table]:
+    builders = {
+        "vla_by_skill": lambda: skill_table(results, main_run),
+        "vla_by_category": lambda: category_table(results, main_run),
+        "vla_ablation_image": lambda: ablation_table(
+            results, IMAGE_ABLATION, "Image-input ablation of MobileManiVLA (G1, ablation subset)."
+        ),
+        "vla_ablation_state": lambda: ablation_table(
+            results, STATE_ABLATION, "State-input ablation of MobileManiVLA (G1, ablation subset)."
+        ),
+        "vla_seen_unseen": lambda: split_table(results, split_run),
+        "vla_models": lambda: model_table(results),
+    }
+    return {name: marking_unfinished(results, build) for name, build in builders.items()}
+
+
+def marking_unfinished(results: RecordingResults, build: Callable[[], Table]) -> Table:
+    """The table, its caption naming the results it used from evaluations that have not ended: their cells
+    count only the episodes run so far."""
+    results.used.clear()
+    table = build()
+    if unfinished := results.unfinished(results.used):
+        table.caption += f" Unfinished evaluations: {unfinished}."
+    return table
+
+
+@entry_point
+def main() -> None:
+    parser = argparse.ArgumentParser(
+        description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter
+    )
+    parser.add_argument("root", nargs="?", type=Path, default=Path("outputs/eval"))
+    parser.add_argument("--out", type=Path, default=Path("outputs/tables/vla"))
+    parser.add_argument("--main", default="default", help="run of the per-skill and per-category tables")
+    parser.add_argument("--split-run", default="ablation_image_all", help="run of the seen/unseen table")
+    args = parser.parse_args()
+    check_writable(args.out, "--out")
+    results = load(args.root)
+    args.out.mkdir(parents=True, exist_ok=True)
+    for name, table in build_tables(results, args.main, args.split_run).items():
+        print(table.markdown())
+        (args.out / f"{name}.md").write_text(table.markdown())
+        (args.out / f"{name}.tex").write_text(table.latex())
+    for path in bar_plots(results, args.main, args.out):
+        print(f"wrote {path}")
+    print(f"results under {args.root}: {', '.join('/'.join(key) for key in sorted(results)) or 'none'}")
+    if unfinished := results.unfinished(set(results)):
+        print(f"unfinished evaluations (still running or stopped; rerun `make eval` to finish): {unfinished}")
+    if results.missing:
+        print(
+            "missing inputs (their cells show '-'; `make eval NAME=<run> [SPLIT=..]` writes "
+            "<robot>/<run>/<split>.jsonl, and --main / MAIN_RUN picks the run of the per-skill and "
+            "per-category tables):\n  "
+            + "\n  ".join(f"{args.root}/{'/'.join(key)}.jsonl" for key in sorted(results.missing))
+        )
+
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,132 @@
+"""The paper's VLA tables and bar plots from evaluation results files."""
+
+import json
+from pathlib import Path
+
+from mobilemani_vla.eval import tables as vla_tables
+from mobilemani_vla.eval.results import read_records, summarize, summary_path
+from mobilemani_vla.eval.tables import PROTOCOL_SPLIT, bar_plots, build_tables, load
+
+
+def write_run(
+    root: Path,
+    robot: str,
+    run: str,
+    split: str,
+    outcomes: dict[tuple[str, str, str], list[bool]],
+    finished: bool = True,
+) -> Path:
+    """A results file as `make eval` writes it, with the summary it writes last when `finished`."""
+    path = root / robot / run / f"{split}.jsonl"
+    path.parent.mkdir(parents=True, exist_ok=True)
+    lines = [
+        json.dumps(
+            {
+                "robot": robot,
+                "object_id": obj,
+                "category": obj.split("/")[0],
+                "skill": skill,
+                "scene": scene,
+                "episode": e,
+                "success": ok,
+            }
+        )
+        for (obj, skill, scene), results in outcomes.items()
+        for e, ok in enumerate(results)
+    ]
+    path.write_text("\n".join(lines) + "\n")
+    if finished:
+        summary_path(path).write_text(json.dumps(summarize(read_records(path))))
+    return path
+
+
+def test_tables_and_plots_from_results(tmp_path):
+    root = tmp_path / "eval"
+    # box/0010 open: 3/4; box/0011 open: 1/4 -> box open/pull/pick = mean over objects = 50%.
+    write_run(
+        root,
+        "g1",
+        "default",
+        PROTOCOL_SPLIT,
+        {
+            ("box/0010", "open", "tabletop/16"): [True, True, True, False],
+            ("box/0011", "open", "tabletop/17"): [True, False, False, False],
+            ("box/0010", "close", "tabletop/16"): [True, True, True, True],
+            ("cart/0012", "pull", "space/16"): [False, False],
+        },
+    )
+    write_run(root, "xhand", "default", PROTOCOL_SPLIT, {("box/0010", "close", "tabletop/16"): [False, True]})
+    for split, rate in (("train_objects_train_scenes", [True, True]), (PROTOCOL_SPLIT, [True, False])):
+        write_run(root, "g1", "ablation_image_all", split, {("laptop/0030", "open", "tabletop/16"): rate})
+    write_run(root, "g1", "lerobot_act", PROTOCOL_SPLIT, {("laptop/0030", "open", "tabletop/16"): [False]})
+    results = load(root)
+    tables = build_tables(results, "default", "ablation_image_all")
+
+    skill = tables["vla_by_skill"].markdown()
+    assert "| Open | 50.0 | - | 42.9 | 34.5 |" in skill
+    assert "| Close | 100.0 | 50.0 | 75.8 | 77.5 |" in skill
+    assert "| Pull | 0.0 | - | 34.4 | 29.4 |" in skill
+    category = tables["vla_by_category"].markdown()
+    assert "| Box | 4 | 50.0 | - | 100.0 | 50.0 | 55.0 | 22.5 | 61.9 | 95.0 |" in category
+    assert "| Holistic | 18 | - | - | - | - | 28.8 | 40.2 | - | - |" in category
+    image = tables["vla_ablation_image"].markdown()
+    assert (
+        "| x | x | x | x | x |  |  | 50.0 | 28.2 |" in image and "| x |  |  |  | x |  |  | - | 7.9 |" in image
+    )
+    # cameras all on
+    assert "|  |  |  |  |  |  |  | - | 22.4 |" not in tables["vla_ablation_state"].markdown()
+    splits = tables["vla_seen_unseen"].markdown()
+    assert (
+        "| seen objects, seen scenes | 100.0 | 59.6 |" in splits
+        and "| seen objects, unseen scenes | - | 51.3 |" in splits
+    )
+    models = tables["vla_models"].markdown()
+    assert "| MobileManiVLA | 50.0 | 28.2 |" in models and "| lerobot_act | 0.0 | - |" in models
+    latex = tables["vla_by_skill"].latex()
+    assert r"\toprule" in latex and "Open & 50.0 & - & 42.9 & 34.5" in latex
+
+    paths = bar_plots(results, "default", tmp_path)
+    assert [p.name for p in paths] == ["vla_by_category.png", "vla_by_skill.png"]
+    assert all(p.stat().st_size > 10_000 for p in paths)
+
+
+def test_tables_name_the_results_they_miss(tmp_path, monkeypatch, capsys):
+    """Results under another run name than --main: every table still prints,
+    and the missing files are named."""
+    root = tmp_path / "eval"
+    write_run(root, "g1", "vla_open", PROTOCOL_SPLIT, {("box/0010", "open", "tabletop/16"): [True, False]})
+    monkeypatch.setattr(
+        "sys.argv", ["tables", str(root), "--out", str(tmp_path / "out"), "--main", "default"]
+    )
+    vla_tables.main()
+    out = capsys.readouterr().out
+    assert f"results under {root}: g1/vla_open/{PROTOCOL_SPLIT}" in out and "| vla_open | 50.0 | - |" in out
+    missing = out.split("missing inputs")[1]
+    assert f"{root}/g1/default/{PROTOCOL_SPLIT}.jsonl" in missing
+    assert f"{root}/xhand/default/{PROTOCOL_SPLIT}.jsonl" in missing
+    assert f"{root}/g1/ablation_image_all/train_objects_train_scenes.jsonl" in missing
+    assert "vla_open" not in missing
+
+
+def test_tables_mark_what_they_count_from_unfinished_evaluations(tmp_path, monkeypatch, capsys):
+    """`make tables` beside a running or stopped `make eval`: its cells count the episodes so far, and say
+    so."""
+    root = tmp_path / "eval"
+    outcomes = {("box/0010", "open", "tabletop/16"): [True, False, False]}
+    running = write_run(root, "g1", "default", PROTOCOL_SPLIT, outcomes, finished=False)
+    write_run(root, "xhand", "default", PROTOCOL_SPLIT, outcomes)
+    write_run(root, "g1", "lerobot_act", PROTOCOL_SPLIT, outcomes)
+    tables = build_tables(load(root), "default", "ablation_image_all")
+    note = f"Unfinished evaluations: g1/default/{PROTOCOL_SPLIT} (3 episodes so far).**"
+    assert "| Open | 33.3 | 33.3 |" in tables["vla_by_skill"].markdown()
+    assert note in tables["vla_by_skill"].markdown() and note in tables["vla_by_category"].markdown()
+    assert "Unfinished" not in tables["vla_models"].markdown()  # it shows lerobot_act, not default
+    # a finished run that a later, larger protocol is growing: its summary counts fewer episodes
+    summary_path(running).write_text(json.dumps(summarize(read_records(running)[:2])))
+    assert "Unfinished" in build_tables(load(root), "default", "x")["vla_by_skill"].caption
+    monkeypatch.setattr("sys.argv", ["tables", str(root), "--out", str(tmp_path / "out")])
+    vla_tables.main()
+    out = capsys.readouterr().out
+    assert (
+        "unfinished evaluations (still running or stopped; rerun `make eval` to finish): g1/default/" in out
+    )
