@@ -120,6 +120,9 @@ class ExportCfg:
         context.time_base = Fraction(1, schema.FPS)
         options = {"g": self.gop, "crf": self.crf} | ({} if self.preset is None else {"preset": self.preset})
         context.options = {key: str(value) for key, value in options.items()}
+        level = av.logging.get_level()
+        if level is None:  # PyAV ignores ffmpeg's log by default; its error then quotes no line of it
+            av.logging.set_level(av.logging.ERROR)
         try:
             with av.logging.Capture():  # ffmpeg's own lines would precede the one error; it quotes the last
                 context.open()
@@ -132,6 +135,8 @@ class ExportCfg:
                 f"export.vcodec={self.vcodec} does not open with {given}: {first_sentence(err)}"
                 + (" (4:2:0 video such as h264's needs even sizes)" if odd else "")
             ) from err
+        finally:
+            av.logging.set_level(level)
 
 
 @dataclass
