@@ -27,6 +27,7 @@ from mobilemani_rl.assets.objects import CATEGORIES, catalog_ids
 from mobilemani_rl.utils.cli import entry_point
 from mobilemani_rl.utils.io import check_writable
 from mobilemani_rl.utils.table_format import Table, pct
+from mobilemani_vla.config import CAMERAS, STATES
 from mobilemani_vla.eval.results import SKILL_GROUPS, finished, read_records, summarize
 
 ROBOTS = ("g1", "xhand")
@@ -66,8 +67,6 @@ PAPER_BY_CATEGORY = {
     "cart": (34.4, 29.4, 85.0, 90.0),
     "holistic": (28.8, 40.2, None, None),
 }
-CAMERAS = ("head_rgb", "head_depth", "wrist_rgb", "wrist_depth")
-STATES = ("wrist_pose", "grasp_point", "goal_point")
 # Ablation rows: run name, cameras, states, paper success (G1, ablation subset).
 IMAGE_ABLATION = [
     ("ablation_image_head_rgb", CAMERAS[:1], STATES[:1], 7.9),
