@@ -52,12 +52,16 @@ def heldout_batch(dataset, frames: int, processor: VLAProcessor) -> dict[str, to
 
 
 @torch.no_grad()
-def cognition_spread(model: MobileManiVLA, batch: dict[str, torch.Tensor]) -> dict[str, float]:
+def cognition_spread(
+    model: MobileManiVLA, batch: dict[str, torch.Tensor], feature: torch.Tensor | None = None
+) -> dict[str, float]:
     """Over the batch's frames, the cognition feature's mean per-dimension standard deviation and its RMS
     change when every frame's images are replaced by another frame's (a fixed derangement), both over its
-    RMS."""
+    RMS. `feature`: the batch's cognition feature where the caller has it already."""
     prompt = batch["input_ids"], batch["attention_mask"]
-    feature = model.backbone(batch["pixel_values"], *prompt).float()
+    if feature is None:
+        feature = model.backbone(batch["pixel_values"], *prompt)
+    feature = feature.float()
     others = torch.roll(torch.arange(len(feature)), 1)
     swapped = model.backbone(batch["pixel_values"][others], *prompt).float()
     size = feature.pow(2).mean().sqrt().clamp(min=torch.finfo(feature.dtype).tiny)
@@ -106,6 +110,6 @@ def diagnose(
         ).clamp(-1.0, 1.0)  # as executed
         out[f"open_loop_mse/cfg_{scale:g}"] = F.mse_loss(sampled.float(), actions).item()
         out[f"open_loop_mse_first/cfg_{scale:g}"] = F.mse_loss(sampled[:, 0].float(), actions[:, 0]).item()
-    out.update(cognition_spread(model, batch))
+    out.update(cognition_spread(model, batch, cognition))
     model.train(was_training)
     return out
