@@ -8,8 +8,10 @@
 Protocol: every (object, skill, scene) combination of the selected object split x scene split (default: test
 objects x test scenes), `subset.episodes` episodes each (10), 300 control steps, success when the grasp point
 comes within 5 cm of the goal. Episodes of a combination run as env batches of `episodes_per_batch` (at most
-`subset.episodes`); each batch's env seed comes from (seed, robot, object, skill, scene, block), so episode e
-of a combination is always the same start state, whichever of the `workers` processes runs it. The total is
+`subset.episodes`); each batch's env seed comes from (robot, object, skill, scene) and the number of its first
+episode, seed + e (harness.batch_seed), so episode e of a combination is always the same start state,
+whichever of the `workers` processes runs it, and `lerobot-eval --env.type=mobilemanibench --seed=<seed>`
+with the same batch size replays it. The total is
 printed up front, and every batch's line ends with the episodes done so far and an ETA. Results:
 <output_dir>/<robot>/<name>/<split>.jsonl (one record per episode, resumable), a summary JSON next to it (per
 skill, per category), and head-camera MP4s of the first `video_episodes` episodes. A run directory that
@@ -23,7 +25,6 @@ import os
 os.environ.setdefault("MUJOCO_GL", "egl")  # this command renders offscreen; mujoco reads it when imported
 
 import json
-import zlib
 from collections.abc import Callable
 from functools import partial
 from pathlib import Path
@@ -32,10 +33,10 @@ import hydra
 from omegaconf import DictConfig, OmegaConf
 
 from mobilemani_rl.assets.robots import get_robot
-from mobilemani_rl.envs.config import TaskCfg, with_env_task
+from mobilemani_rl.envs.config import with_env_task
 from mobilemani_rl.envs.mobilemani_env import MobileManiEnv, StepResult
 from mobilemani_rl.envs.rollout import EpisodeStats
-from mobilemani_rl.envs.tasks import Combination, recording_env_cfg, select_combinations
+from mobilemani_rl.envs.tasks import Combination, select_combinations
 from mobilemani_rl.envs.video import HeadCameraRecorder
 from mobilemani_rl.utils.cli import entry_point
 from mobilemani_rl.utils.config_store import changed_values, to_dataclass
@@ -45,15 +46,11 @@ from mobilemani_rl.utils.process_pool import run_in_pool
 from mobilemani_rl.utils.progress import Progress
 from mobilemani_rl.utils.video_logs import quiet_video_libraries
 from mobilemani_vla.eval.config import DEFAULT_IMAGE_SIZE, EvalCfg, PolicyCfg
-from mobilemani_vla.eval.harness import run_batch
+from mobilemani_vla.eval.harness import batch_seed, episode_env, run_batch
 from mobilemani_vla.eval.policies.base import EvalPolicy
 from mobilemani_vla.eval.policies.factory import build_policy
 from mobilemani_vla.eval.results import ResultsFile, read_records, summarize, summary_path
 from mobilemani_vla.model.ensemble import check_action_index
-
-
-def batch_seed(combo: Combination, base: int, block: int) -> int:
-    return (base * 1_000_003 + zlib.crc32(f"{combo.name}/{block}".encode())) % 2**31
 
 
 def run_dir(cfg: EvalCfg) -> Path:
@@ -62,9 +59,8 @@ def run_dir(cfg: EvalCfg) -> Path:
 
 def block_env(cfg: EvalCfg, combo: Combination, block: int) -> tuple[MobileManiEnv, int]:
     """The env batch of one evaluation block and the seed the harness resets it with."""
-    seed = batch_seed(combo, cfg.seed, block)
-    task = TaskCfg(combo.robot, combo.object_id, combo.skill, combo.scene)
-    return MobileManiEnv(recording_env_cfg(cfg.env, task, cfg.batch_size, seed)), seed
+    seed = batch_seed(combo, cfg.seed + block * cfg.batch_size)
+    return episode_env(cfg.env, combo, cfg.batch_size, seed), seed
 
 
 def run_block(
