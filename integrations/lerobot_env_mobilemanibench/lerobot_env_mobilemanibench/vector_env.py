@@ -58,7 +58,12 @@ def check_observation(cameras: tuple[str, ...], height: int, width: int, convent
 
 
 class MobileManiBenchVectorEnv(gym.vector.VectorEnv):
-    metadata: dict[str, Any] = {"render_fps": schema.FPS, "autoreset_mode": AutoresetMode.SAME_STEP}
+    metadata: dict[str, Any] = {
+        "render_modes": ["rgb_array"],
+        "render_fps": schema.FPS,
+        "autoreset_mode": AutoresetMode.SAME_STEP,
+    }
+    render_mode = "rgb_array"  # render(): the first camera's images
 
     def __init__(
         self,
