@@ -40,7 +40,9 @@ class LeRobotEvalPolicy(EvalPolicy):
     ) -> None:
         from lerobot.configs.policies import PreTrainedConfig
         from lerobot.policies.factory import get_policy_class, make_pre_post_processors
+        from lerobot.utils.import_utils import register_third_party_plugins
 
+        register_third_party_plugins()  # policy types from plugin packages (MobileManiVLA's among them)
         path = Path(checkpoint)
         if not (path / "config.json").is_file():
             raise MissingFileError(
