@@ -41,13 +41,16 @@ help:
 	@echo "make help         this list"
 	@echo "Usage and options: docs/usage.md"
 
+# The LeRobot plugins (integrations/): lerobot-eval --env.type=mobilemanibench, lerobot-train --policy.type=mobilemanivla
+PLUGINS = integrations/lerobot_env_mobilemanibench integrations/lerobot_policy_mobilemanivla
+
 # Rebuilt only when the dependency list changes.
-$(VENV)/.installed: pyproject.toml
+$(VENV)/.installed: pyproject.toml $(addsuffix /pyproject.toml,$(PLUGINS))
 	@test -n "$(PYTHON312)" || { echo "error: Python 3.12 not found on PATH or under pyenv"; exit 1; }
 	@test -x $(PY) || $(PYTHON312) -m venv $(VENV)
 	@echo "installing into $(VENV): PyTorch with its CUDA libraries and the rest, several GB (pip's progress below)"
 	$(PY) -m pip install --quiet --upgrade pip
-	$(PY) -m pip install --progress-bar on -e ".[dev]"
+	$(PY) -m pip install --progress-bar on -e ".[dev]" $(addprefix -e ,$(PLUGINS))
 	touch $@
 
 test: setup
