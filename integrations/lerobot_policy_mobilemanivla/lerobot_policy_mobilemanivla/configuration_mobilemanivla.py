@@ -1,7 +1,7 @@
 """`--policy.type=mobilemanivla`: the config of MobileManiVLA as a LeRobot policy.
 
 The network, its sizes and its training settings are the project's VLA config (conf/vla.yaml composed with
-`--policy.preset`, a conf/vla/model option, and `--policy.overrides`, e.g.
+`--policy.preset`, a conf/vla/model option, and `--policy.overrides`, e.g. '[+experiment=demo]' or
 '[diffusion.ddim_steps=5,inputs.state_dropout=0.3]'), recorded whole in `vla_yaml` once the policy is built,
 so a checkpoint reloads without composing anything. LeRobot's pipelines leave every feature as it is
 (IDENTITY): the model normalises actions and states itself with the dataset's global min/max bounds
@@ -33,9 +33,10 @@ from mobilemani_vla.model.processor import STATE_SOURCES, camera_key
 @PreTrainedConfig.register_subclass("mobilemanivla")
 @dataclass
 class MobileManiVLAConfig(PreTrainedConfig):
-    preset: str = "tiny"  # conf/vla/model/<preset>.yaml
+    preset: str | None = None  # conf/vla/model/<preset>.yaml; None: conf/vla.yaml's (or an experiment's)
     overrides: list[str] = field(default_factory=list)  # more conf/vla.yaml overrides
-    # VLA camera names (head_rgb, head_depth, wrist_rgb, wrist_depth); None: those of them the dataset has
+    # VLA camera names (head_rgb, head_depth, wrist_rgb, wrist_depth); None: those of the VLA config's
+    # inputs.cameras the dataset has
     cameras: list[str] | None = None
     # The training dataset's instructions: the word-level tokenizer's vocabulary (filled in by training)
     tasks: list[str] = field(default_factory=list)
@@ -53,6 +54,8 @@ class MobileManiVLAConfig(PreTrainedConfig):
         """The recorded VLA config, else conf/vla.yaml with `preset` and `overrides`."""
         if self.vla_yaml is not None:
             return vla_cfg_from_yaml(self.vla_yaml)
+        if self.preset is None:
+            return compose_vla_cfg(self.overrides)
         check_choice(self.preset, group_options("vla/model"), "policy.preset")
         return compose_vla_cfg([f"vla/model={self.preset}", *self.overrides])
 
@@ -81,9 +84,10 @@ class MobileManiVLAConfig(PreTrainedConfig):
             )
         inputs = self.input_features or {}
         available = [c for c in CAMERAS if camera_key(c) in inputs]
-        cameras = available if self.cameras is None else list(self.cameras)
-        if not cameras or any(camera_key(c) not in inputs for c in cameras):
-            raise InputError(f"policy.cameras={self.cameras}: the dataset has the VLA cameras {available}")
+        wanted = cfg.inputs.cameras if self.cameras is None else self.cameras
+        cameras = [c for c in wanted if c in available] if self.cameras is None else list(wanted)
+        if not cameras or any(c not in available for c in cameras):
+            raise InputError(f"policy.cameras={wanted}: the dataset has the VLA cameras {available}")
         unread = [s for s in cfg.inputs.states if STATE_SOURCES[s][0] not in inputs]
         if unread:
             raise InputError(
