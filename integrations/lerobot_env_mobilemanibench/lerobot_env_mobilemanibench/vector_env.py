@@ -106,15 +106,13 @@ class MobileManiBenchVectorEnv(gym.vector.VectorEnv):
         self.builder = ObservationBuilder(env, inputs, self.task, self.width, self.height)
         self.episodes = FirstEpisodes(env)
 
-    def first_episode(self, seed: int | list[int] | None) -> int | None:
+    def first_episode(self, seed: int | list[int] | np.ndarray | None) -> int | None:
         """The number of the batch's first episode: reset(seed=s) numbers the envs' episodes s, s+1, ..."""
         if seed is None:
             return None
-        seeds = (
-            [int(s) for s in seed]
-            if isinstance(seed, list | tuple)
-            else [int(seed) + i for i in range(self.num_envs)]
-        )
+        seeds = [int(s) for s in np.atleast_1d(seed)]  # one int s stands for s, s+1, ...
+        if len(seeds) == 1:
+            seeds = list(range(seeds[0], seeds[0] + self.num_envs))
         if seeds != list(range(seeds[0], seeds[0] + self.num_envs)):
             raise InputError(
                 f"reset(seed={seed}): a batch's episodes share one generator, so give its {self.num_envs} "
