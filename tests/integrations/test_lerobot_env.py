@@ -2,6 +2,7 @@
 stock `lerobot-eval` scores a LeRobot policy on it."""
 
 import json
+from pathlib import Path
 
 import gymnasium as gym
 import numpy as np
@@ -15,8 +16,11 @@ from mobilemani_rl.envs.base_frame import action_to_base
 from mobilemani_rl.envs.config import EnvCfg
 from mobilemani_rl.scripted.policy import ScriptedPolicy
 from mobilemani_rl.utils.errors import InputError
+from mobilemani_vla.eval.config import EvalCfg, PolicyCfg
+from mobilemani_vla.eval.evaluate import evaluate
 from mobilemani_vla.eval.harness import batch_seed, episode_env, run_batch
 from mobilemani_vla.eval.policies.privileged import ScriptedEvalPolicy
+from mobilemani_vla.eval.results import read_records
 from mobilemani_vla.model.ensemble import EnsembleCfg
 
 TASK = "g1/test/box/open/unseen_unseen"
@@ -114,7 +118,8 @@ def test_gymnasium_ids_make_one_env_and_a_batched_vector():
 
 def tiny_act(path, state_dim: int) -> None:
     """A randomly initialised ACT over head RGB and the state, saved with its pipelines as lerobot-train
-    saves a checkpoint."""
+    saves a checkpoint. It predicts a chunk every step and executes its first action: deterministic, and
+    executed alike by LeRobot (select_action) and our harness (ensemble.action_index=0)."""
     from lerobot.configs import FeatureType, PolicyFeature
     from lerobot.policies.act.configuration_act import ACTConfig
     from lerobot.policies.act.modeling_act import ACTPolicy
@@ -125,7 +130,7 @@ def tiny_act(path, state_dim: int) -> None:
         input_features={k: PolicyFeature(type=t, shape=s) for k, (t, s) in features.items()},
         output_features={schema.ACTION: PolicyFeature(type=FeatureType.ACTION, shape=(7,))},
         chunk_size=4,
-        n_action_steps=4,
+        n_action_steps=1,
         dim_model=16,
         n_heads=2,
         dim_feedforward=32,
@@ -147,28 +152,54 @@ def tiny_act(path, state_dim: int) -> None:
         pipeline.save_pretrained(path)
 
 
-def test_lerobot_eval_scores_a_tiny_act_on_the_env(tmp_path):
+def test_lerobot_eval_scores_a_tiny_act_as_our_harness_does(tmp_path):
+    """Stock lerobot-eval on the plugin env and our harness, same policy, seed and batch size: the same
+    episodes (returns and successes)."""
     from lerobot.configs.default import EvalConfig
     from lerobot.configs.eval import EvalPipelineConfig
     from lerobot.configs.policies import PreTrainedConfig
     from lerobot.scripts.lerobot_eval import eval_main
 
-    tiny_act(tmp_path / "act", schema.state_dim(1))
-    policy = PreTrainedConfig.from_pretrained(tmp_path / "act")
-    policy.pretrained_path = tmp_path / "act"
+    act, length, n = tmp_path / "act", 12, 2
+    tiny_act(act, schema.state_dim(1))
+    policy = PreTrainedConfig.from_pretrained(act)
+    policy.pretrained_path = act
     env = MobileManiBenchEnvConfig(
         task=TASK,
         cameras=["head_rgb"],
         observation_height=SIZE,
         observation_width=SIZE,
-        episode_length=6,
+        episode_length=length,
         scenes_per_object=1,
     )
-    out = tmp_path / "eval"
+    out = tmp_path / "lerobot_eval"
     eval_main(
         EvalPipelineConfig(
-            env=env, eval=EvalConfig(n_episodes=2, batch_size=2), policy=policy, output_dir=out, seed=0
+            env=env, eval=EvalConfig(n_episodes=n, batch_size=n), policy=policy, output_dir=out, seed=3
         )
     )
-    overall = json.loads((out / "eval_info.json").read_text())["overall"]
-    assert overall["n_episodes"] == 2 and 0.0 <= overall["pc_success"] <= 100.0
+    info = json.loads((out / "eval_info.json").read_text())
+    assert info["overall"]["n_episodes"] == n and 0.0 <= info["overall"]["pc_success"] <= 100.0
+
+    cfg = EvalCfg(
+        output_dir=str(tmp_path / "harness"),
+        policy=PolicyCfg(kind="lerobot", checkpoint=str(act)),
+        episodes_per_batch=n,
+        seed=3,
+        ensemble=EnsembleCfg(action_index=0),
+    )
+    cfg.subset.objects, cfg.subset.skills, cfg.subset.episodes, cfg.subset.scenes_per_object = (
+        ["test/box"],
+        ["open"],
+        n,
+        1,
+    )
+    cfg.env.episode_length = length
+    evaluate(cfg.check())
+    records = sorted(
+        read_records(Path(cfg.output_dir) / "g1" / "default" / f"{cfg.split_name}.jsonl"),
+        key=lambda r: r["episode"],
+    )
+    metrics = info["per_task"][0]["metrics"]
+    assert [r["success"] for r in records] == metrics["successes"]
+    np.testing.assert_allclose([r["return"] for r in records], metrics["sum_rewards"], rtol=1e-5)
