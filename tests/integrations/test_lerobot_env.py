@@ -52,7 +52,9 @@ def test_plugin_episodes_are_the_harness_episodes_of_the_same_seed():
     env = episode_env(EnvCfg(), combo, n, seed)
     stats = run_batch(env, harness_policy, seed, combo.instruction, EnsembleCfg(), (SIZE, SIZE))
 
-    vec = MobileManiBenchVectorEnv(combo, n, cameras=("head_rgb",), height=SIZE, width=SIZE)
+    vec = MobileManiBenchVectorEnv(
+        combo, n, cameras=("head_rgb",), observation_height=SIZE, observation_width=SIZE
+    )
     obs, _ = vec.reset(seed=list(range(first, first + n)))
     first_seen = harness_policy.seen[0]
     np.testing.assert_array_equal(obs["pixels"]["head_rgb"], first_seen[HEAD])
@@ -92,8 +94,9 @@ def test_env_config_features_follow_the_dataset_and_tasks_expand_to_combinations
         ({"task": "g1/box/open"}, "<robot>/<object id or category>/<skill>/<split>"),
         ({"task": "g1/test/box/fly/unseen_unseen"}, "skill"),
         ({"task": "g1/test/box/open/everywhere"}, "split"),
-        ({"cameras": ["head_rgb", "top_rgb"]}, "camera"),
-        ({"observation_height": 2}, "height"),
+        ({"cameras": ["head_rgb", "top_rgb"]}, "env.cameras"),
+        ({"observation_height": 2}, "env.observation_height"),
+        ({"episode_length": 0}, "env.episode_length"),
     ],
 )
 def test_bad_env_settings_stop_with_one_message_naming_them(kwargs, named):

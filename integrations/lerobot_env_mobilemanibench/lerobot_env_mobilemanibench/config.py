@@ -45,7 +45,11 @@ class MobileManiBenchEnvConfig(EnvConfig):
 
     def __post_init__(self) -> None:
         check_observation(
-            tuple(self.cameras), self.observation_height, self.observation_width, self.action_convention
+            tuple(self.cameras),
+            self.observation_height,
+            self.observation_width,
+            self.action_convention,
+            "env.",
         )
         robots = {task_subset(task)[0] for task in split_tasks(self.task or "")}
         if len(robots) != 1:
@@ -69,8 +73,8 @@ class MobileManiBenchEnvConfig(EnvConfig):
     def gym_kwargs(self) -> dict:
         return {
             "cameras": tuple(self.cameras),
-            "height": self.observation_height,
-            "width": self.observation_width,
+            "observation_height": self.observation_height,
+            "observation_width": self.observation_width,
             "episode_length": self.episode_length,
             "action_convention": self.action_convention,
         }
@@ -82,7 +86,7 @@ class MobileManiBenchEnvConfig(EnvConfig):
         changes nothing); each builds its scene at its first reset."""
         return {
             task: {
-                i: MobileManiBenchVectorEnv(combo, n_envs, **self.gym_kwargs)
+                i: MobileManiBenchVectorEnv(combo, n_envs, **self.gym_kwargs, prefix="env.")
                 for i, combo in enumerate(
                     task_combinations(task, self.objects_per_category, self.scenes_per_object)
                 )

@@ -41,20 +41,24 @@ EPISODE_LENGTH = EnvCfg().episode_length
 
 
 def image_key(camera: str) -> str:
-    """'head_rgb' -> observation.images.head_rgb, after checking the name."""
-    check_choice(camera, CAMERA_NAMES, "camera")
+    """'head_rgb' -> observation.images.head_rgb."""
     return schema.image_key(*camera.split("_"))
 
 
-def check_observation(cameras: tuple[str, ...], height: int, width: int, convention: str) -> None:
+def check_observation(
+    cameras: tuple[str, ...], height: int, width: int, convention: str, prefix: str = ""
+) -> None:
+    """The observation settings, each bad one named by its key (`prefix`: "env." in LeRobot's config)."""
     for camera in cameras:
-        image_key(camera)
+        check_choice(camera, CAMERA_NAMES, f"{prefix}cameras entry")
     if len(set(cameras)) != len(cameras):
-        raise InputError(f"cameras {list(cameras)} name a camera twice")
+        raise InputError(f"{prefix}cameras={list(cameras)} names a camera twice")
     # LeRobot tells channels-last images by their channel axis being the shortest
     if min(height, width) <= 3:
-        raise InputError(f"image size {height}x{width}: height and width must be at least 4")
-    check_choice(convention, get_args(Convention), "action convention")
+        raise InputError(
+            f"{prefix}observation_height={height}, {prefix}observation_width={width}: both must be >= 4"
+        )
+    check_choice(convention, get_args(Convention), f"{prefix}action_convention")
 
 
 class MobileManiBenchVectorEnv(gym.vector.VectorEnv):
@@ -70,15 +74,19 @@ class MobileManiBenchVectorEnv(gym.vector.VectorEnv):
         combination: Combination,
         num_envs: int = 1,
         cameras: tuple[str, ...] = DEFAULT_CAMERAS,
-        height: int = DEFAULT_SIZE[0],
-        width: int = DEFAULT_SIZE[1],
+        observation_height: int = DEFAULT_SIZE[0],
+        observation_width: int = DEFAULT_SIZE[1],
         episode_length: int = EPISODE_LENGTH,
         action_convention: str = "conjugate",
+        prefix: str = "",
     ) -> None:
-        cameras = tuple(cameras)
-        check_observation(cameras, height, width, action_convention)
+        """`prefix` names the settings in errors as the caller's config does ("env." for LeRobot's)."""
+        cameras, height, width = tuple(cameras), observation_height, observation_width
+        check_observation(cameras, height, width, action_convention, prefix)
         if num_envs < 1 or episode_length < 1:
-            raise InputError(f"num_envs={num_envs}, episode_length={episode_length}: both must be >= 1")
+            raise InputError(
+                f"num_envs={num_envs}, {prefix}episode_length={episode_length}: both must be >= 1"
+            )
         self.combination, self.num_envs = combination, num_envs
         self.cameras, self.height, self.width = cameras, height, width
         self.convention = action_convention
