@@ -114,6 +114,11 @@ class TrainCfg:
     lr_schedule: str = "cosine"  # a diffusers.optimization schedule name: constant, cosine, linear, ...
     warmup_steps: int = 200
     weight_decay: float = 0.01
+    # State quantities the cognition feature is also trained to regress (a linear read-out, MSE in normalised
+    # units, weighted by cognition_target_weight): e.g. [grasp_point], where the object is, which only the
+    # cameras show. A backbone trained from scratch otherwise gets only the diffusion loss's weak gradient.
+    cognition_targets: list[str] = field(default_factory=list)
+    cognition_target_weight: float = 1.0
     ema_decay: float = (
         0.999  # > 0: an exponential moving average of the weights, saved and used for evaluation
     )
@@ -149,6 +154,11 @@ class VLACfg:
     @property
     def action_dim(self) -> int:
         return ROBOT_ACTION_DIMS[self.robot]
+
+    @property
+    def read_states(self) -> list[str]:
+        """The states training reads: the inputs, then the cognition feature's targets, each once."""
+        return list(dict.fromkeys([*self.inputs.states, *self.train.cognition_targets]))
 
     def validate(self) -> VLACfg:
         """Stop with one message naming the key and the valid choices (before anything is written)."""
@@ -206,6 +216,12 @@ class VLACfg:
                     and text.num_attention_heads % text.num_key_value_heads == 0,
                     f"a divisor of model.text.num_attention_heads={text.num_attention_heads}",
                 ),
+                (
+                    "train.cognition_target_weight",
+                    t.cognition_target_weight,
+                    t.cognition_target_weight >= 0,
+                    ">= 0",
+                ),
                 ("data.heldout_episodes", data.heldout_episodes, data.heldout_episodes >= 0, ">= 0"),
                 ("data.num_workers", data.num_workers, data.num_workers >= 0, ">= 0"),
             ]
@@ -218,6 +234,7 @@ class VLACfg:
         _choices("robot", [self.robot], ROBOT_ACTION_DIMS)
         _choices("inputs.cameras", self.inputs.cameras, CAMERAS)
         _choices("inputs.states", self.inputs.states, STATES)
+        _choices("train.cognition_targets", t.cognition_targets, STATES)
         _choices("model.dit", [self.model.dit], DIT_PRESETS)
         _choices("model.dit_gelu", [self.model.dit_gelu], GELU_APPROXIMATIONS)
         _choices("model.dtype", [self.model.dtype], DTYPES)

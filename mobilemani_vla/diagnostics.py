@@ -10,6 +10,7 @@
 - The cognition feature's dependence on the input (`cognition_spread`): how much it varies from frame to frame
   and how much it moves when the frames' images are swapped, relative to its size. A backbone whose feature
   no longer depends on its input (spread 0) leaves the action head only the state.
+- With cognition targets (`train.cognition_targets`), the read-out's error on them (`cognition/target_mse`).
 """
 
 from __future__ import annotations
@@ -111,5 +112,7 @@ def diagnose(
         out[f"open_loop_mse/cfg_{scale:g}"] = F.mse_loss(sampled.float(), actions).item()
         out[f"open_loop_mse_first/cfg_{scale:g}"] = F.mse_loss(sampled[:, 0].float(), actions[:, 0]).item()
     out.update(cognition_spread(model, batch, cognition))
+    if model.cognition_probe is not None:
+        out["cognition/target_mse"] = model.cognition_target_error(cognition, batch).item()
     model.train(was_training)
     return out

@@ -205,7 +205,7 @@ def _train(cfg: VLACfg, held: ExitStack) -> TrainResult:
     with accelerator.main_process_first():  # one process builds the frame cache
         data = open_data(cfg, model.backbone.image_size, progress=accelerator.is_local_main_process)
     if normalizer is None:
-        normalizer = fit_normalizer(data.table, data.table.rows(data.train_episodes), cfg.inputs.states)
+        normalizer = fit_normalizer(data.table, data.table.rows(data.train_episodes), cfg.read_states)
     processor = VLAProcessor.for_config(cfg, tokenizer, normalizer, model.backbone.image_size)
     dataset_info = {
         "root": cfg.data.root,

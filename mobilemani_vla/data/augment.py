@@ -23,10 +23,19 @@ class AugmentCfg:
     brightness: float = 0.2  # RGB scaled by a factor in [1 - b, 1 + b]
     contrast: float = 0.2  # RGB pulled to / pushed from its mean by a factor in [1 - c, 1 + c]
     saturation: float = 0.2  # RGB blended with its grey image by a factor in [1 - s, 1 + s]
+    # Share of RGB images passed through a random 3x3 convolution (Lee et al. 2020, network randomisation):
+    # new colours and textures for every surface, which colour jitter alone cannot give a room.
+    random_conv: float = 0.0
 
     @property
     def enabled(self) -> bool:
-        return self.shift > 0 or self.brightness > 0 or self.contrast > 0 or self.saturation > 0
+        return (
+            self.shift > 0
+            or self.brightness > 0
+            or self.contrast > 0
+            or self.saturation > 0
+            or self.random_conv > 0
+        )
 
 
 def _factor(amount: float, shape: tuple[int, ...], like: torch.Tensor) -> torch.Tensor:
@@ -60,6 +69,27 @@ def jitter_colour(rgb: torch.Tensor, cfg: AugmentCfg) -> torch.Tensor:
     return out.clamp(0.0, 1.0)
 
 
+def random_convolution(rgb: torch.Tensor, share: float) -> torch.Tensor:
+    """(N, 3, H, W) in [0, 1] -> a `share` of the images convolved with their own random 3x3 kernel (3 -> 3
+    channels, Xavier-normal, edges replicated), each rescaled to [0, 1]; the rest unchanged."""
+    n = rgb.shape[0]
+    chosen = torch.rand(n, device=rgb.device) < share
+    if not chosen.any():
+        return rgb
+    picked = rgb[chosen]
+    m = picked.shape[0]
+    kernels = torch.randn(m * 3, 3, 3, 3, device=rgb.device, dtype=rgb.dtype) * (2.0 / (27 + 27)) ** 0.5
+    padded = torch.nn.functional.pad(
+        picked.reshape(1, m * 3, *picked.shape[2:]), (1, 1, 1, 1), mode="replicate"
+    )
+    out = torch.nn.functional.conv2d(padded, kernels, groups=m).view_as(picked)
+    low = out.amin(dim=(1, 2, 3), keepdim=True)
+    high = out.amax(dim=(1, 2, 3), keepdim=True)
+    result = rgb.clone()
+    result[chosen] = (out - low) / (high - low).clamp(min=1e-6)
+    return result
+
+
 def augment_images(pixel_values: torch.Tensor, cameras: list[str], cfg: AugmentCfg) -> torch.Tensor:
     """(B, K, 3, S, S) batch images for `cameras` (names like head_rgb, wrist_depth) -> augmented copy."""
     if not cfg.enabled:
@@ -75,4 +105,6 @@ def augment_images(pixel_values: torch.Tensor, cameras: list[str], cfg: AugmentC
     for k, camera in enumerate(cameras):
         if camera.endswith("_rgb"):
             out[:, k] = jitter_colour(out[:, k], cfg)
+            if cfg.random_conv > 0:
+                out[:, k] = random_convolution(out[:, k], cfg.random_conv)
     return out

@@ -38,7 +38,7 @@ def vector_keys(states: list[str]) -> list[str]:
 
 
 def required_features(cfg: VLACfg) -> list[str]:
-    return [camera_key(c) for c in cfg.inputs.cameras] + vector_keys(cfg.inputs.states)
+    return [camera_key(c) for c in cfg.inputs.cameras] + vector_keys(cfg.read_states)
 
 
 def open_metadata(cfg: VLACfg) -> LeRobotDatasetMetadata:
@@ -198,7 +198,7 @@ def open_data(cfg: VLACfg, image_size: int, progress: bool = True) -> VLAData:
     meta = open_metadata(cfg)
     episodes = chosen_episodes(cfg.data.episodes, meta.total_episodes, cfg.data.root)
     train_eps, heldout_eps = split_episodes(episodes, cfg.data.heldout_episodes, cfg.train.seed)
-    table = FrameTable.read(meta, vector_keys(cfg.inputs.states))
+    table = FrameTable.read(meta, vector_keys(cfg.read_states))
     if cfg.data.cache:
         images = cached_images(
             Path(cfg.data.root), meta, cfg.inputs.cameras, image_size, cfg.data.video_backend, progress
@@ -206,7 +206,7 @@ def open_data(cfg: VLACfg, image_size: int, progress: bool = True) -> VLAData:
 
         def frames(eps: np.ndarray) -> Dataset:
             return CachedFrames(
-                table, table.rows(eps), images, cfg.inputs.cameras, cfg.inputs.states, cfg.diffusion.chunk
+                table, table.rows(eps), images, cfg.inputs.cameras, cfg.read_states, cfg.diffusion.chunk
             )
     else:
 

@@ -4,6 +4,7 @@ actions."""
 from __future__ import annotations
 
 import torch
+import torch.nn.functional as F
 from torch import nn
 from transformers import PaliGemmaConfig, PreTrainedTokenizerBase
 from transformers.models.paligemma.modeling_paligemma import PaliGemmaModel
@@ -44,6 +45,9 @@ class MobileManiVLA(nn.Module):
         self.state_encoder = StateEncoder(state_dim, dit.width) if state_dim else None
         self.head = ActionDiffusion(dit, cfg.diffusion)
         self.state_dropout = cfg.inputs.state_dropout
+        target_dim = sum(STATE_DIMS[s] for s in cfg.train.cognition_targets)
+        self.cognition_probe = nn.Linear(backbone.width, target_dim) if target_dim else None
+        self.cognition_target_weight = cfg.train.cognition_target_weight
 
     def condition(self, batch: dict[str, torch.Tensor]) -> tuple[torch.Tensor, torch.Tensor | None]:
         head_dtype = self.head.dit.pos_embed.dtype  # a bfloat16 backbone feeds a float32 head
@@ -54,12 +58,20 @@ class MobileManiVLA(nn.Module):
         return cognition, state
 
     def forward(self, batch: dict[str, torch.Tensor]) -> torch.Tensor:
-        """Training loss."""
+        """Training loss: the diffusion loss, plus the weighted cognition-target error where there are
+        targets."""
         cognition, state = self.condition(batch)
         if state is not None and self.state_dropout > 0 and self.training:
             kept = torch.rand(state.shape[0], 1, device=state.device) >= self.state_dropout
             state = state * kept  # a withheld state is the zero feature, as the no-state diagnostic feeds
-        return self.head.loss(batch["actions"], cognition, state)
+        loss = self.head.loss(batch["actions"], cognition, state)
+        if self.cognition_probe is not None:
+            loss = loss + self.cognition_target_weight * self.cognition_target_error(cognition, batch)
+        return loss
+
+    def cognition_target_error(self, cognition: torch.Tensor, batch: dict[str, torch.Tensor]) -> torch.Tensor:
+        """MSE of the linear read-out of the cognition feature against its targets (normalised units)."""
+        return F.mse_loss(self.cognition_probe(cognition).float(), batch["cognition_target"].float())
 
     @torch.no_grad()
     def predict(

@@ -9,7 +9,7 @@ and resized as one (B, 3, H, W) view (frame by frame, it took a large share of a
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 import torch
 import torch.nn.functional as F
@@ -63,16 +63,25 @@ class VLAProcessor:
     states: list[str]
     image_size: int
     prompt: str
+    targets: list[str] = field(default_factory=list)  # states the cognition feature learns to regress
 
     @classmethod
     def for_config(
         cls, cfg: VLACfg, tokenizer: PreTrainedTokenizerBase, normalizer: Normalizer, image_size: int
     ) -> VLAProcessor:
         """The processor a model trained with `cfg` reads its inputs through."""
-        return cls(tokenizer, normalizer, cfg.inputs.cameras, cfg.inputs.states, image_size, cfg.model.prompt)
+        return cls(
+            tokenizer,
+            normalizer,
+            cfg.inputs.cameras,
+            cfg.inputs.states,
+            image_size,
+            cfg.model.prompt,
+            cfg.train.cognition_targets,
+        )
 
     def __post_init__(self) -> None:
-        needed = [schema.ACTION, *state_features(self.states)]
+        needed = [schema.ACTION, *state_features(self.states + self.targets)]
         if missing := [k for k in needed if k not in self.normalizer.bounds]:
             raise KeyError(
                 f"the normalisation bounds have no {missing} (they hold {sorted(self.normalizer.bounds)}): "
@@ -88,10 +97,11 @@ class VLAProcessor:
         resized = [resize_images(as_unit_float(batch[camera_key(c)]), self.image_size) for c in self.cameras]
         return torch.stack(resized, dim=1).contiguous()  # an (H, W, 3) camera view resizes channels-last
 
-    def state(self, batch: dict) -> torch.Tensor:
+    def state(self, batch: dict, states: list[str] | None = None) -> torch.Tensor:
+        """The normalised `states` (default: the state inputs), concatenated."""
         parts = [
             self.normalizer.normalize(key, torch.as_tensor(batch[key]))[..., part]
-            for key, part in (STATE_SOURCES[s] for s in self.states)
+            for key, part in (STATE_SOURCES[s] for s in (self.states if states is None else states))
         ]
         return torch.cat(parts, dim=-1)
 
@@ -119,6 +129,8 @@ class VLAProcessor:
             out["state"] = self.state(batch)
         if schema.ACTION in batch:
             out["actions"] = self.actions(batch)
+            if self.targets:
+                out["cognition_target"] = self.state(batch, self.targets)
         return out
 
     def __call__(self, frames: list[dict]) -> dict[str, torch.Tensor]:
@@ -126,5 +138,6 @@ class VLAProcessor:
         keys = [camera_key(c) for c in self.cameras] + state_features(self.states)
         if schema.ACTION in frames[0]:
             keys += [schema.ACTION, f"{schema.ACTION}_is_pad"]
+            keys += [k for k in state_features(self.targets) if k not in keys]
         batch = {k: torch.stack([torch.as_tensor(f[k]) for f in frames]) for k in keys}
         return self.collate({**batch, "task": [f["task"] for f in frames]})

@@ -3,7 +3,13 @@ colour jitter leaves depth alone."""
 
 import torch
 
-from mobilemani_vla.data.augment import AugmentCfg, augment_images, jitter_colour, shift_images
+from mobilemani_vla.data.augment import (
+    AugmentCfg,
+    augment_images,
+    jitter_colour,
+    random_convolution,
+    shift_images,
+)
 
 CAMERAS = ["head_rgb", "head_depth", "wrist_rgb", "wrist_depth"]
 
@@ -40,3 +46,18 @@ def test_colour_jitter_factors_stay_in_range_and_zero_config_is_the_identity():
     off = AugmentCfg(shift=0, brightness=0, contrast=0, saturation=0)
     images = torch.rand(2, 4, 3, 8, 8)
     assert not off.enabled and augment_images(images, CAMERAS, off) is images
+
+
+def test_random_convolution_recolours_its_share_of_rgb_images_only():
+    torch.manual_seed(0)
+    images = torch.rand(64, 4, 3, 16, 16)
+    cfg = AugmentCfg(shift=0, brightness=0, contrast=0, saturation=0, random_conv=0.5)
+    out = augment_images(images, CAMERAS, cfg)
+    for k in (1, 3):  # depth keeps its values
+        assert torch.equal(out[:, k], images[:, k])
+    changed = (out[:, [0, 2]] != images[:, [0, 2]]).flatten(2).any(-1)
+    assert 0.25 < changed.float().mean() < 0.75  # about half of the RGB images
+    recoloured = out[:, [0, 2]][changed]
+    assert recoloured.amin() == 0.0 and recoloured.amax() == 1.0  # each rescaled to [0, 1]
+    flat = torch.ones(1, 3, 8, 8) * 0.5  # a uniform image stays uniform per channel (edges replicated)
+    assert torch.allclose(random_convolution(flat, 1.0).flatten(2).std(-1), torch.zeros(1, 3), atol=1e-6)

@@ -113,6 +113,34 @@ def test_forward_backward_on_a_dataset_batch(dataset_root, tmp_path):
     assert model.backbone.cognition.grad.abs().sum() > 0
 
 
+def test_cognition_targets_add_a_read_out_loss_and_its_diagnostic(dataset_root, tmp_path):
+    targets = ["train.cognition_targets=[grasp_point]", "train.cognition_target_weight=0.5"]
+    cfg = tiny_cfg(dataset_root, tmp_path, targets)
+    data = open_data(cfg, 32, progress=False)
+    normalizer = fit_normalizer(data.table, data.table.rows(data.train_episodes), cfg.read_states)
+    model = build_model(cfg, build_word_tokenizer())
+    processor = VLAProcessor.for_config(cfg, build_word_tokenizer(), normalizer, 32)
+    frames = [data.train[i] for i in (0, 5, 11)]
+    batch = processor(frames)
+    # the target is the grasp point in the base frame, normalised; the state input stays the wrist pose
+    grasp = torch.stack([torch.as_tensor(f[schema.GRASP_POINT_BASE]) for f in frames])
+    assert torch.allclose(batch["cognition_target"], normalizer.normalize(schema.GRASP_POINT_BASE, grasp))
+    assert batch["state"].shape == (3, 9)
+    torch.manual_seed(0)
+    loss = model(batch)
+    torch.manual_seed(0)
+    cognition, state = model.condition(batch)
+    diffusion = model.head.loss(batch["actions"], cognition, state)
+    read_out = model.cognition_probe(cognition)
+    assert torch.allclose(loss, diffusion + 0.5 * (read_out - batch["cognition_target"]).pow(2).mean())
+    loss.backward()  # the action head's output starts at zero, so only the read-out reaches the cameras yet
+    assert any(p.grad.abs().sum() > 0 for p in model.backbone.vlm.vision_tower.parameters())
+    # training logs the read-out's held-out error
+    out = tmp_path / "run"
+    train(tiny_cfg(dataset_root, out, [*targets, "train.steps=1", "train.diagnose_every=1"]))
+    assert json.loads((out / "diagnostics.jsonl").read_text())["cognition/target_mse"] > 0
+
+
 def test_the_evaluators_batch_gives_the_model_what_training_frames_give():
     """The evaluator hands the processor one (B, H, W, 3) uint8 view per camera; training, one float frame per
     sample. The model inputs must be the same, bit for bit."""
