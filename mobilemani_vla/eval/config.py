@@ -40,7 +40,7 @@ class EvalCfg:
     episodes_per_batch: int = (
         10  # episodes run together (at most subset.episodes); seeds are per block of this size
     )
-    seed: int = 0  # mixed with (robot, object, skill, scene, block) into each batch's env seed
+    seed: int = 0  # a block's env seed mixes (robot, object, skill, scene) and its first episode, seed + e
     ensemble: EnsembleCfg = field(default_factory=EnsembleCfg)
     action_convention: str = (
         "conjugate"  # base-frame action encoding of the training data (base_frame.Convention)
