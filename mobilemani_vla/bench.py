@@ -26,7 +26,7 @@ from mobilemani_rl.utils.video_logs import quiet_video_libraries
 from mobilemani_vla.config import CAMERAS, VLACfg, compose_vla_cfg
 from mobilemani_vla.data.dataset import fit_normalizer, open_data
 from mobilemani_vla.model.network import MobileManiVLA, build_model
-from mobilemani_vla.model.processor import STATE_DIMS, VLAProcessor
+from mobilemani_vla.model.processor import VLAProcessor, states_width
 from mobilemani_vla.model.tokenizer import build_word_tokenizer
 from mobilemani_vla.train import adamw
 
@@ -51,7 +51,7 @@ def synthetic_batch(model: MobileManiVLA, cfg: VLACfg, batch: int) -> dict[str, 
         "pixel_values": torch.rand(batch, len(cfg.inputs.cameras), 3, size, size),
         "input_ids": enc["input_ids"],
         "attention_mask": enc["attention_mask"],
-        "state": torch.rand(batch, sum(STATE_DIMS[s] for s in cfg.inputs.states)) * 2 - 1,
+        "state": torch.rand(batch, states_width(cfg.inputs.states)) * 2 - 1,
         "actions": torch.rand(batch, cfg.diffusion.chunk, cfg.action_dim) * 2 - 1,
     }
 

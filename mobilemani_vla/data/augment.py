@@ -78,7 +78,8 @@ def random_convolution(rgb: torch.Tensor, share: float) -> torch.Tensor:
         return rgb
     picked = rgb[chosen]
     m = picked.shape[0]
-    kernels = torch.randn(m * 3, 3, 3, 3, device=rgb.device, dtype=rgb.dtype) * (2.0 / (27 + 27)) ** 0.5
+    # Xavier-normal: fan-in = fan-out = 3 channels x 3 x 3
+    kernels = torch.randn(m * 3, 3, 3, 3, device=rgb.device, dtype=rgb.dtype) / 27**0.5
     padded = torch.nn.functional.pad(
         picked.reshape(1, m * 3, *picked.shape[2:]), (1, 1, 1, 1), mode="replicate"
     )

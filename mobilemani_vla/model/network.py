@@ -13,7 +13,7 @@ from mobilemani_vla.config import VLACfg
 from mobilemani_vla.model.backbone import CognitionBackbone, load_paligemma, paligemma_config
 from mobilemani_vla.model.diffusion import ActionDiffusion
 from mobilemani_vla.model.dit import DiT
-from mobilemani_vla.model.processor import STATE_DIMS
+from mobilemani_vla.model.processor import states_width
 
 
 class StateEncoder(nn.Module):
@@ -41,11 +41,11 @@ class MobileManiVLA(nn.Module):
             cfg.diffusion.cfg_dropout > 0,
             cfg.model.dit_gelu,
         )
-        state_dim = sum(STATE_DIMS[s] for s in cfg.inputs.states)
+        state_dim = states_width(cfg.inputs.states)
         self.state_encoder = StateEncoder(state_dim, dit.width) if state_dim else None
         self.head = ActionDiffusion(dit, cfg.diffusion)
         self.state_dropout = cfg.inputs.state_dropout
-        target_dim = sum(STATE_DIMS[s] for s in cfg.train.cognition_targets)
+        target_dim = states_width(cfg.train.cognition_targets)
         self.cognition_probe = nn.Linear(backbone.width, target_dim) if target_dim else None
         self.cognition_target_weight = cfg.train.cognition_target_weight
 

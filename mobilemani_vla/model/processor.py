@@ -27,6 +27,13 @@ STATE_SOURCES = {
     "goal_point": (schema.GOAL_POINT_BASE, slice(0, 3)),
 }
 STATE_DIMS = {name: part.stop - part.start for name, (_, part) in STATE_SOURCES.items()}
+
+
+def states_width(states: list[str]) -> int:
+    """The width of the states `states` concatenated."""
+    return sum(STATE_DIMS[s] for s in states)
+
+
 WRIST_DELTA_DIMS = 6  # action[0:6] are wrist deltas; action[6:] absolute gripper/hand targets
 
 
@@ -90,7 +97,7 @@ class VLAProcessor:
 
     @property
     def state_dim(self) -> int:
-        return sum(STATE_DIMS[s] for s in self.states)
+        return states_width(self.states)
 
     def images(self, batch: dict) -> torch.Tensor:
         """Selected cameras, each (B, 3, H, W) uint8 or float in [0, 1] -> (B, K, 3, S, S) float."""
