@@ -64,6 +64,9 @@ class ActionCfg:
 class ResetCfg:
     root_x_range: list[float] = field(default_factory=lambda: [-0.25, 0.25])
     root_y_range: list[float] = field(default_factory=lambda: [0.0, 0.5])  # only toward the object
+    # [near, far] m in front of the grasp point along y, in place of the default root y + root_y_range: one
+    # start distance for both robots (the fixed-base ablation's 0.5-1.0 m); None: the mobile start.
+    root_y_distance_range: list[float] | None = None
     yaw_jitter_deg: float = 15.0
     random_height: float = 0.5  # stage height U(0, 0.5) m where the category allows it
     stage_shift: float = 0.1  # stage front face moved toward the robot by U(0, 0.1) m
@@ -111,6 +114,9 @@ class EnvParamsCfg:
 
     num_envs: int = 64
     episode_length: int = 300  # control steps (10 s at 30 Hz)
+    # Lock the base's yaw and slide joints at their reset values: the IK moves the 7 arm joints alone (the
+    # paper's fixed-base ablation, Table 8; conf/env/fixed_base.yaml).
+    fixed_base: bool = False
     seed: int = 0
     obs_clip: float = 10.0
     reward_clip: float = 10.0
@@ -162,6 +168,8 @@ class EnvParamsCfg:
             "env.reset.room_jitter_x": reset.room_jitter_x,
             "env.reset.room_jitter_y": reset.room_jitter_y,
         }
+        if reset.root_y_distance_range is not None:
+            ranges["env.reset.root_y_distance_range"] = reset.root_y_distance_range
         check_values(
             [("env.seed", self.seed, is_seed(self.seed), SEED_RULE)]
             + [(key, value, value > 0, "above 0") for key, value in above_zero.items()]
@@ -171,6 +179,11 @@ class EnvParamsCfg:
                 for key, pair in ranges.items()
             ]
         )
+        if reset.root_y_distance_range is not None and reset.root_y_range != ResetCfg().root_y_range:
+            raise InputError(
+                f"env.reset.root_y_range={list(reset.root_y_range)} has no effect while "
+                "env.reset.root_y_distance_range places the robot; set one of them"
+            )
 
 
 @dataclass

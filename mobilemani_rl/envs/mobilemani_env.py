@@ -20,9 +20,9 @@ from mobilemani_rl.envs.config import EnvCfg
 from mobilemani_rl.envs.frames import FrameReader, Frames, SimView
 from mobilemani_rl.envs.ik import chain_jacobian, dls_step, wrist_pose_error
 from mobilemani_rl.envs.observations import compute_observation, normalize_to_limits, observation_dim
-from mobilemani_rl.envs.resets import sample_episode_start
+from mobilemani_rl.envs.resets import check_start_clearance, sample_episode_start
 from mobilemani_rl.envs.rewards import RewardContext, TaskDistances, grasp_flag, reward_terms, total_reward
-from mobilemani_rl.envs.scene import build_scene
+from mobilemani_rl.envs.scene import build_scene, ik_joints
 from mobilemani_rl.envs.terminations import hand_too_far_or_too_fast, time_out_or_held_success
 from mobilemani_rl.utils.errors import SEED_RULE, InputError, is_seed
 from mobilemani_rl.utils.rotations import quat_from_euler, quat_mul
@@ -57,6 +57,7 @@ class MobileManiEnv:
         self.object = get_object(cfg.task.object)
         self.skill = check_skill(self.object, cfg.task.skill)
         self.placement = get_placement(cfg.task.scene) if cfg.task.scene else None
+        check_start_clearance(self.robot, self.object, cfg.reset, self.placement)
         self.model, self.index = build_scene(self.robot, self.object, cfg.physics, cfg.reset, self.placement)
         self.room_mocap = (
             int(self.model.body_mocapid[self.model.body(ROOM_BODY).id]) if self.placement else -1
@@ -77,6 +78,10 @@ class MobileManiEnv:
         self.default_hand_action = normalize_to_limits(
             np.array([default[q] for q in idx.hand_qpos]), idx.hand_limits
         )
+        self.ik = ik_joints(idx, cfg.fixed_base)
+        # A locked base stays at the reset values, the robot's defaults.
+        self.base_qpos, self.base_dof = idx.ik_qpos[idx.ik_is_base], idx.ik_dof[idx.ik_is_base]
+        self.base_value = np.array([default[q] for q in self.base_qpos])
         self.num_obs = observation_dim(
             self.num_actions, len(idx.finger_sites), len(idx.active_bodies), len(self.joint_limits)
         )
@@ -159,30 +164,24 @@ class MobileManiEnv:
         """Check and clamp, run one DLS IK step, and write joint targets; returns the applied action and the
         number of NaN entries per env."""
         self.require_reset()
-        idx, v, acfg = self.index, self.view, self.cfg.actions
+        idx, ik, v, acfg = self.index, self.ik, self.view, self.cfg.actions
         actions, nan_count = checked_actions(actions, self.num_envs, self.num_actions)
         jacobian = chain_jacobian(
-            self.frames.hand_pos, v.xanchor[:, idx.ik_joint], v.xaxis[:, idx.ik_joint], idx.ik_is_hinge
+            self.frames.hand_pos, v.xanchor[:, ik.joint], v.xaxis[:, ik.joint], ik.is_hinge
         )
         error = wrist_pose_error(actions, acfg.pos_scale, acfg.rot_scale)
-        q = v.qpos[:, idx.ik_qpos]
-        targets = np.clip(
-            q + dls_step(jacobian, error, acfg.ik_damping), idx.ik_limits[:, 0], idx.ik_limits[:, 1]
-        )
+        q = v.qpos[:, ik.qpos]
+        targets = np.clip(q + dls_step(jacobian, error, acfg.ik_damping), ik.limits[:, 0], ik.limits[:, 1])
         low, high = idx.hand_limits[:, 0], idx.hand_limits[:, 1]
         hand = low + 0.5 * (actions[:, 6:] + 1.0) * (high - low)
-        v.ctrl[:, idx.ik_act] = targets
+        v.ctrl[:, ik.act] = targets
         v.ctrl[:, idx.hand_act] = hand
         v.ctrl[:, idx.mimic_act] = hand[:, idx.mimic_leader]
         return actions, nan_count
 
     def step(self, actions: np.ndarray) -> StepResult:
         actions, nan_count = self.apply_action(actions)
-        # The last substep runs on its own: the acceleration is the velocity change over it.
-        if self.cfg.physics.substeps > 1:
-            self.batch.step(nstep=self.cfg.physics.substeps - 1)
-        previous_vel = self.frame_reader.joint_vel()
-        self.batch.step(nstep=1, stage=mujoco.mjtStage.mjSTAGE_VEL)
+        previous_vel = self._simulate_locked_base() if self.cfg.fixed_base else self._simulate()
         self.episode_length_buf += 1
         self.env_times += 1
         self.last_action = actions
@@ -227,6 +226,26 @@ class MobileManiEnv:
         return StepResult(
             self.obs, reward, terminated, truncated, success_flag, final_obs, done, weighted, log, nan_count
         )
+
+    def _simulate(self) -> np.ndarray:
+        """The physics substeps, positions and velocities current after them; returns the joint velocities
+        before the last substep, which runs on its own: the acceleration is the velocity change over it."""
+        if self.cfg.physics.substeps > 1:
+            self.batch.step(nstep=self.cfg.physics.substeps - 1)
+        previous_vel = self.frame_reader.joint_vel()
+        self.batch.step(nstep=1, stage=mujoco.mjtStage.mjSTAGE_VEL)
+        return previous_vel
+
+    def _simulate_locked_base(self) -> np.ndarray:
+        """As `_simulate`, with the base put back at its reset values and zero velocity after every substep:
+        its servo alone would yield a little to the arm's reaction forces."""
+        for _ in range(self.cfg.physics.substeps):
+            previous_vel = self.frame_reader.joint_vel()
+            self.batch.step(nstep=1)
+            self.view.qpos[:, self.base_qpos] = self.base_value
+            self.view.qvel[:, self.base_dof] = 0.0
+        self.batch.forward(stage=mujoco.mjtStage.mjSTAGE_VEL)
+        return previous_vel
 
     def _observe(self, ids: np.ndarray | None = None) -> np.ndarray:
         if ids is None:

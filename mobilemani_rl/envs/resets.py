@@ -10,9 +10,11 @@ import numpy as np
 from mobilemani_rl.assets.objects import ObjectKind, ObjectModel
 from mobilemani_rl.assets.objects.model import CART_TRAVEL, PICK_LIFT
 from mobilemani_rl.assets.robots import RobotDescription
+from mobilemani_rl.assets.robots.builder import BASE_RADIUS
 from mobilemani_rl.assets.scenes import Placement
 from mobilemani_rl.assets.stage import object_position, stage_position, stage_top
 from mobilemani_rl.envs.config import ResetCfg
+from mobilemani_rl.utils.errors import InputError
 from mobilemani_rl.utils.rotations import quat_from_yaw
 
 ROBOT_ROOT_Z = 0.01  # reference default root height
@@ -43,9 +45,7 @@ def sample_episode_start(
     placement: Placement | None = None,
 ) -> EpisodeStart:
     kin, params = obj.kinematics, obj.params
-    # Recording and realistic rooms (the object stands on the placement's visible table) zero the random
-    # height, except for windows, and the stage shift, as the reference records.
-    plain = placement is None and not cfg.recording
+    plain = _plain(cfg, placement)
     random_height = params.random_height and (plain or obj.category == "window")
     lift = rng.uniform(0.0, cfg.random_height, n) if random_height else np.zeros(n)
     top = stage_top(obj, placement) + lift
@@ -64,9 +64,7 @@ def sample_episode_start(
     front = object_pos[:, 1] + kin.front_y - rng.uniform(0.0, stage_shift, n)
     stage_pos = stage_position(front, top)
 
-    root_xy = np.asarray(robot.default_root_xy) + np.stack(
-        (rng.uniform(*cfg.root_x_range, n), rng.uniform(*cfg.root_y_range, n)), axis=1
-    )
+    root_xy = _root_xy(rng, n, robot, cfg)
     if skill == "close" and obj.kind is ObjectKind.ARTICULATED:
         # Back out of the door's sweep when opening moves the handle toward the robot, as the reference
         # does.
@@ -80,6 +78,44 @@ def sample_episode_start(
     return EpisodeStart(
         root_pos, quat_from_yaw(yaw), stage_pos, object_pos, object_quat, joint_value, goal_pos, goal_scale
     )
+
+
+def _plain(cfg: ResetCfg, placement: Placement | None) -> bool:
+    """Recording and realistic rooms (the object stands on the placement's visible table) zero the random
+    height, except for windows, and the stage shift, as the reference records."""
+    return placement is None and not cfg.recording
+
+
+def _root_xy(rng: np.random.Generator, n: int, robot: RobotDescription, cfg: ResetCfg) -> np.ndarray:
+    """(n, 2) robot roots: the default root plus the x and y offsets, or with root_y_distance_range that many
+    metres in front of the grasp point (at the origin)."""
+    x = robot.default_root_xy[0] + rng.uniform(*cfg.root_x_range, n)
+    if cfg.root_y_distance_range is None:
+        y = robot.default_root_xy[1] + rng.uniform(*cfg.root_y_range, n)
+    else:
+        y = -rng.uniform(*cfg.root_y_distance_range, n)
+    return np.stack((x, y), axis=1)
+
+
+def check_start_clearance(
+    robot: RobotDescription, obj: ObjectModel, cfg: ResetCfg, placement: Placement | None = None
+) -> None:
+    """The nearest start keeps the base clear of the stage front (where the object's front face is): a
+    start inside it would run, with the base stuck in the stage."""
+    if cfg.root_y_distance_range is None:
+        key, pair, nearest = "root_y_range", cfg.root_y_range, robot.default_root_xy[1] + cfg.root_y_range[1]
+    else:
+        key, pair = "root_y_distance_range", cfg.root_y_distance_range
+        nearest = -pair[0]
+    shift = cfg.stage_shift if _plain(cfg, placement) else 0.0
+    front = object_position(obj, np.array(0.0), cfg.pick_y_offset)[1] + obj.kinematics.front_y - shift
+    if nearest + BASE_RADIUS > front:
+        raise InputError(
+            f"env.reset.{key}={list(pair)} starts the {robot.name} base (radius {BASE_RADIUS} m) at y = "
+            f"{nearest:.2f} m, inside the stage in front of {obj.object_id} (its front face as near as "
+            f"y = {front:.2f} m); start the root at least {BASE_RADIUS - front:.2f} m in front of the grasp "
+            "point"
+        )
 
 
 def _rotate_z(quat: np.ndarray, point: np.ndarray) -> np.ndarray:

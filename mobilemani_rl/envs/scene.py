@@ -24,6 +24,7 @@ class SceneIndex:
     ik_dof: np.ndarray
     ik_joint: np.ndarray  # joint ids
     ik_is_hinge: np.ndarray  # bool; the others are slides
+    ik_is_base: np.ndarray  # bool; the mobile base's yaw and slide, the others are arm joints
     ik_act: np.ndarray
     ik_limits: np.ndarray  # (9, 2)
     hand_qpos: np.ndarray
@@ -51,6 +52,29 @@ class SceneIndex:
     object_joint_dof: int
     grasp_site: int
     grasp_body: int
+
+
+@dataclass(frozen=True)
+class IkJoints:
+    """The joints one IK step moves, as columns of the IK chain's arrays."""
+
+    qpos: np.ndarray
+    joint: np.ndarray
+    is_hinge: np.ndarray
+    act: np.ndarray
+    limits: np.ndarray  # (k, 2)
+
+
+def ik_joints(index: SceneIndex, fixed_base: bool) -> IkJoints:
+    """The whole chain, or the arm alone when the base is locked."""
+    moved = ~index.ik_is_base if fixed_base else np.ones_like(index.ik_is_base)
+    return IkJoints(
+        index.ik_qpos[moved],
+        index.ik_joint[moved],
+        index.ik_is_hinge[moved],
+        index.ik_act[moved],
+        index.ik_limits[moved],
+    )
 
 
 def _add_stage_and_ground(spec: mujoco.MjSpec) -> None:
@@ -118,6 +142,7 @@ def index_scene(model: mujoco.MjModel, robot: RobotDescription, obj: ObjectModel
         ik_dof=np.array([j.dofadr[0] for j in ik]),
         ik_joint=np.array([j.id for j in ik]),
         ik_is_hinge=np.array([j.type[0] == mujoco.mjtJoint.mjJNT_HINGE for j in ik]),
+        ik_is_base=np.isin(robot.ik_joints, robot.base_joints),
         ik_act=act_of(robot.ik_joints),
         ik_limits=np.array([j.range for j in ik]),
         hand_qpos=np.array([j.qposadr[0] for j in hand]),

@@ -19,6 +19,7 @@ FINGER_SOLIMP = (0.99, 0.995, 0.001, 0.5, 2.0)
 # be 1.0 here too (MuJoCo takes a pair's larger value), but MuJoCo's soft contacts let held objects slip and
 # the scripted G1 pick loses episodes (docs/results/fidelity.md).
 PAD_FRICTION = (1.5, 0.01, 0.001)
+BASE_RADIUS = 0.26  # m, the mobile base's collision cylinder
 
 
 def add_geom(
@@ -182,7 +183,9 @@ def add_mobile_base(spec: mujoco.MjSpec, base_name: str, slide_limit: float) -> 
     )
     base = add_link(yaw, base_name, (0, 0, 0))
     add_joint(base, SLIDE, "slider_basey", (0, 1, 0), (-slide_limit, slide_limit), armature=1.0, damping=5.0)
-    add_geom(base, mujoco.mjtGeom.mjGEOM_CYLINDER, (0.26, 0.12), pos=(0, 0, 0.15), rgba=DARK_RGBA, mass=20.0)
+    add_geom(
+        base, mujoco.mjtGeom.mjGEOM_CYLINDER, (BASE_RADIUS, 0.12), pos=(0, 0, 0.15), rgba=DARK_RGBA, mass=20.0
+    )
     add_position_actuator(spec, "slider_basex", kp=3000.0, kv=400.0, force=2000.0, limits=(-np.pi, np.pi))
     add_position_actuator(
         spec, "slider_basey", kp=8000.0, kv=800.0, force=4000.0, limits=(-slide_limit, slide_limit)

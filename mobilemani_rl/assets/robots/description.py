@@ -37,5 +37,10 @@ class RobotDescription:
     hand_mimic: dict[str, str] = field(default_factory=dict)
 
     @property
+    def base_joints(self) -> tuple[str, ...]:
+        """The mobile base's joints: the IK chain's first two (yaw, then the slide along the heading)."""
+        return self.ik_joints[:2]
+
+    @property
     def action_dim(self) -> int:
         return 6 + len(self.hand_joints)
