@@ -29,7 +29,9 @@ def lerobot_episodes(info_path: Path) -> dict[str, list[dict]]:
     names: dict[str, list[str]] = {}
     for task in info["per_task"]:
         group = task["task_group"]
-        combos = names.setdefault(group, [c.name for c in task_combinations(group)])
+        if group not in names:  # each task's combinations, built once
+            names[group] = [c.name for c in task_combinations(group)]
+        combos = names[group]
         metrics = task["metrics"]
         episodes[combos[task["task_id"]]] = [
             {"success": bool(s), "return": r}
