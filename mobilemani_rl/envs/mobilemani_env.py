@@ -239,13 +239,17 @@ class MobileManiEnv:
     def _simulate_locked_base(self) -> np.ndarray:
         """As `_simulate`, with the base put back at its reset values and zero velocity after every substep:
         its servo alone would yield a little to the arm's reaction forces."""
-        for _ in range(self.cfg.physics.substeps):
-            previous_vel = self.frame_reader.joint_vel()
-            self.batch.step(nstep=1)
-            self.view.qpos[:, self.base_qpos] = self.base_value
-            self.view.qvel[:, self.base_dof] = 0.0
+        for _ in range(self.cfg.physics.substeps - 1):
+            self._locked_substep()
+        previous_vel = self.frame_reader.joint_vel()  # read once, before the last substep
+        self._locked_substep()
         self.batch.forward(stage=mujoco.mjtStage.mjSTAGE_VEL)
         return previous_vel
+
+    def _locked_substep(self) -> None:
+        self.batch.step(nstep=1)
+        self.view.qpos[:, self.base_qpos] = self.base_value
+        self.view.qvel[:, self.base_dof] = 0.0
 
     def _observe(self, ids: np.ndarray | None = None) -> np.ndarray:
         if ids is None:
