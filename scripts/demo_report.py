@@ -21,7 +21,8 @@ import numpy as np  # noqa: E402
 from omegaconf import OmegaConf  # noqa: E402
 
 from mobilemani_data.schema import EXPORT_REPORT_FILE  # noqa: E402
-from mobilemani_vla.eval.results import read_records, wilson_interval  # noqa: E402
+from mobilemani_rl.utils.stats import wilson_interval  # noqa: E402
+from mobilemani_vla.eval.results import read_records  # noqa: E402
 from scripts.plot_training_curve import plot_runs  # noqa: E402
 
 

@@ -17,6 +17,7 @@ from pathlib import Path
 import numpy as np
 
 from mobilemani_rl.utils.io import read_json
+from mobilemani_rl.utils.stats import wilson_interval
 from mobilemani_rl.utils.writer_lock import WriterLock, busy
 
 Key = tuple[str, str, str, str, int]
@@ -93,17 +94,6 @@ class ResultsFile:
                 os.fsync(f.fileno())
             self.done.update(record_key(r) for r in new)
         return len(new)
-
-
-def wilson_interval(successes: int, episodes: int, z: float = 1.96) -> tuple[float, float]:
-    """The Wilson score interval of a success rate (95% by default): unlike p ± z·se it stays inside [0, 1]
-    and does not collapse to a point at 0 or all successes."""
-    if episodes == 0:
-        return 0.0, 1.0
-    p, n = successes / episodes, episodes
-    centre = (p + z * z / (2 * n)) / (1 + z * z / n)
-    half = z * np.sqrt(p * (1 - p) / n + z * z / (4 * n * n)) / (1 + z * z / n)
-    return float(max(0.0, centre - half)), float(min(1.0, centre + half))
 
 
 def _over_objects(records: list[dict]) -> dict:

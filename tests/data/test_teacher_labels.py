@@ -8,8 +8,9 @@ import pytest
 from mobilemani_data.config import ExportCfg
 from mobilemani_data.convert import smoothed_labels
 from mobilemani_data.export import label_window
+from mobilemani_rl.utils.stats import wilson_interval
 from mobilemani_vla.diagnostics import wrong_instructions
-from mobilemani_vla.eval.results import summarize, wilson_interval
+from mobilemani_vla.eval.results import summarize
 
 
 def test_window_one_keeps_the_labels():
