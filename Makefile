@@ -13,7 +13,7 @@ PYTHON312 ?= $(shell for c in python3.12 $$(pyenv root 2>/dev/null)/versions/3.1
 ROBOT ?= g1
 # Every output goes under outputs/ by default (the path variables below and the Hydra configs' defaults).
 
-.PHONY: help setup test test-slow lint bench bench-sim bench-ppo clean-venv rl teachers tables vla bench-vla demo eval
+.PHONY: help setup test test-slow lint bench bench-sim bench-ppo clean-venv rl teachers teachers-base-ablation tables vla bench-vla demo eval
 
 setup: $(VENV)/.installed
 
@@ -26,6 +26,7 @@ help:
 	@echo "make lint         ruff check and ruff format --check"
 	@echo "make rl           a PPO teacher for one task, then its evaluation (ROBOT OBJECT SKILL PPO ITERATIONS RL_ARGS)"
 	@echo "make teachers     the paper's teacher table, one teacher per category and skill (ROBOT TEACHERS_OUT TEACHER_ARGS)"
+	@echo "make teachers-base-ablation  the paper's base-mobility table: six g1 rows, mobile and fixed base (TEACHERS_OUT)"
 	@echo "make data         collect, export, validate and describe a LeRobot dataset (ROBOT PRESET SUBSET TEACHER DATA_ARGS)"
 	@echo "make vla          train MobileManiVLA (ROBOT EXPERIMENT VLA_ARGS)"
 	@echo "make recipe       the CPU VLA recipe end to end: data, VLA, evaluation in unseen rooms (RECIPE_SKILL RECIPE_STEPS)"
@@ -103,6 +104,21 @@ teachers: setup
 		rl.ppo.max_iterations=$(TEACHER_ITERATIONS) --skill-iterations pick:$(TEACHER_PICK_ITERATIONS) \
 		rl.ppo.warm_start.episodes=128 $(TEACHER_ARGS)
 
+# The paper's base-mobility ablation (Table 8): its six G1 rows with a mobile and with a fixed base (env=fixed_base),
+# the same budget as `make teachers`, each row evaluated over >= 256 test episodes; rows resume like `make teachers`.
+# TEACHER_ARGS here holds Hydra overrides for every row (docs/results/teachers.md: rl.ppo.precision=fp32).
+BASE_ABLATION_ROWS = laptop:open cabinet:open faucet:open table:open cart:pull holistic:pick
+BASE_ABLATION_OUT = $(TEACHERS_OUT)/g1_base_ablation
+teachers-base-ablation: setup
+	for base in mobile_base fixed_base; do for row in $(BASE_ABLATION_ROWS); do \
+		$(PY) -m mobilemani_rl.rl.sweep --robot g1 --runs $(TEACHERS)/$$base --out $(BASE_ABLATION_OUT)/$$base \
+			--categories $${row%:*} --skills $${row#*:} --test-episodes 256 rl.ppo.max_iterations=$(TEACHER_ITERATIONS) \
+			--skill-iterations pick:$(TEACHER_PICK_ITERATIONS) rl.ppo.warm_start.episodes=128 \
+			$$([ $$base = fixed_base ] && echo env=fixed_base) $(TEACHER_ARGS) || exit 1; \
+	done; done
+	$(PY) -m mobilemani_rl.rl.base_mobility --mobile $(BASE_ABLATION_OUT)/mobile_base/teachers_g1.json \
+		--fixed $(BASE_ABLATION_OUT)/fixed_base/teachers_g1.json --out $(BASE_ABLATION_OUT)
+
 # Tables (Markdown + LaTeX) and bar plots from teacher evaluations and closed-loop results.
 RL_RUNS ?= outputs/rl
 EVAL_RESULTS ?= outputs/eval
@@ -110,6 +126,8 @@ TABLES ?= outputs/tables
 MAIN_RUN ?= default
 tables: setup
 	$(PY) -m mobilemani_rl.rl.tables $(RL_RUNS) --out $(TABLES)/rl
+	$(PY) -m mobilemani_rl.rl.base_mobility --mobile $(BASE_ABLATION_OUT)/mobile_base/teachers_g1.json \
+		--fixed $(BASE_ABLATION_OUT)/fixed_base/teachers_g1.json --out $(TABLES)/rl
 	$(PY) -m mobilemani_vla.eval.tables $(EVAL_RESULTS) --out $(TABLES)/vla --main $(MAIN_RUN)
 
 # Closed-loop evaluation (Hydra root conf/eval.yaml): make eval ROBOT=g1 CHECKPOINT=<VLA checkpoint dir>

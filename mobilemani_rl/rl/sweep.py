@@ -2,7 +2,7 @@
 
     python -m mobilemani_rl.rl.sweep --robot g1 [--runs outputs/teachers]
         [--out outputs/teachers/tables/g1] [--categories box laptop] [--skills open]
-        [--skill-iterations pick:3000]
+        [--skill-iterations pick:3000] [--test-episodes 256]
         [hydra overrides, e.g. rl.ppo.max_iterations=300]
 
 Each row trains one category-level policy on up to `objects_per_policy` of the category's train objects
@@ -12,12 +12,13 @@ another; a row whose evaluation exists is skipped, and an interrupted row resume
 (training's own resume), so rerunning the same command continues where it stopped; a finished row asked for
 more iterations goes on to them, and one asked for other settings stops the sweep before anything trains,
 naming them. `--skill-iterations SKILL:N` gives that skill's rows their own iteration count (holistic pick is
-still learning when 300 end). After every row the sweep rewrites `<out>/teachers_<robot>.json` and `.md` with
-every row finished so far, also by earlier runs over other rows (per row: test and train success, the warm
-start's scripted success, samples, wall minutes, the command that recreates it; rows below the paper's skill
-mean with the stage they fall short in), and the paper's teacher tables computed from those rows' test
-objects (`rl_by_skill`, `rl_by_category`). Checkpoints stay under `--runs`. Both `--runs` and `--out` are
-checked for writability before the first row trains.
+still learning when 300 end); `--test-episodes N` gives a category with few test objects more episodes per
+object, so that every row's test success counts at least N episodes. After every row the sweep rewrites
+`<out>/teachers_<robot>.json` and `.md` with every row finished so far, also by earlier runs over other rows
+(per row: test and train success, the warm start's scripted success, samples, wall minutes, the command that
+recreates it; rows below the paper's skill mean with the stage they fall short in), and the paper's teacher
+tables computed from those rows' test objects (`rl_by_skill`, `rl_by_category`). Checkpoints stay under
+`--runs`. Both `--runs` and `--out` are checked for writability before the first row trains.
 """
 
 from __future__ import annotations
@@ -31,7 +32,7 @@ import numpy as np
 from hydra import compose, initialize_config_dir
 from omegaconf import DictConfig
 
-from mobilemani_rl.assets.objects import ALL_SKILLS, CATEGORIES
+from mobilemani_rl.assets.objects import ALL_SKILLS, CATEGORIES, catalog_ids
 from mobilemani_rl.rl.config import RLCfg
 from mobilemani_rl.rl.eval import evaluate
 from mobilemani_rl.rl.run_dir import RESULT, WARM_START, is_complete, latest_checkpoint
@@ -48,6 +49,7 @@ from mobilemani_rl.utils.errors import InputError, check_choice
 from mobilemani_rl.utils.io import check_writable, read_json, write_json_atomic
 from mobilemani_rl.utils.table_format import pct
 
+EVAL_EPISODES = 64  # per evaluated object, unless --test-episodes asks for more
 EVAL_SEED = 1000  # the seed `python -m mobilemani_rl.rl.train eval_episodes=N` evaluates with
 WALL = "sweep_seconds.json"  # wall seconds of a row, summed over its finished or Ctrl-C'd attempts
 WEAKEST = 2  # test objects named in a low row's diagnosis
@@ -57,11 +59,22 @@ ITERATIONS = "rl.ppo.max_iterations="
 
 
 def row_overrides(
-    robot: str, category: str, skill: str, runs: Path, overrides: list[str], iterations: int | None = None
+    robot: str,
+    category: str,
+    skill: str,
+    runs: Path,
+    overrides: list[str],
+    iterations: int | None = None,
+    test_episodes: int = 0,
 ) -> list[str]:
     """The row's training command (as Hydra overrides); the evaluation's episodes default to 64 per object,
-    and `iterations` (the skill's own count) replaces any iteration override."""
-    default = [] if any(o.startswith("eval_episodes=") for o in overrides) else ["eval_episodes=64"]
+    raised where the category's test objects would get fewer than `test_episodes` in all, and `iterations`
+    (the skill's own count) replaces any iteration override."""
+    test_objects = len(catalog_ids(category, "test")) or 1
+    per_object = max(EVAL_EPISODES, -(-test_episodes // test_objects))
+    default = (
+        [] if any(o.startswith("eval_episodes=") for o in overrides) else [f"eval_episodes={per_object}"]
+    )
     if iterations is not None:
         overrides = [*(o for o in overrides if not o.startswith(ITERATIONS)), f"{ITERATIONS}{iterations}"]
     return [
@@ -219,6 +232,13 @@ def main(argv: list[str] | None = None) -> None:
     parser.add_argument("--categories", nargs="+", default=None)
     parser.add_argument("--skills", nargs="+", default=None)
     parser.add_argument("--skill-iterations", nargs="+", default=[], metavar="SKILL:N")
+    parser.add_argument(
+        "--test-episodes",
+        type=int,
+        default=0,
+        metavar="N",
+        help="at least N evaluation episodes over each row's test objects (more per object where it has few)",
+    )
     # Hydra overrides for every row (conf/rl.yaml), anywhere on the line: category and skill names hold no
     # '=', so `--categories box rl.ppo.max_iterations=300` does not read the override as a category.
     argv = sys.argv[1:] if argv is None else argv
@@ -229,6 +249,8 @@ def main(argv: list[str] | None = None) -> None:
         check_choice(category, CATEGORIES, "category")
     for skill in args.skills or []:
         check_choice(skill, ALL_SKILLS, "skill")
+    if args.test_episodes < 0:
+        raise InputError(f"--test-episodes {args.test_episodes}: expected N >= 0")
     per_skill = dict(skill_iterations(text) for text in args.skill_iterations)
     todo = rows(args.categories, args.skills)
     if not todo:  # only a category list can lack every skill asked for
@@ -240,7 +262,8 @@ def main(argv: list[str] | None = None) -> None:
     check_writable(args.runs, "--runs")
     check_writable(args.out, "--out")
     overrides = [
-        row_overrides(args.robot, c, s, args.runs, hydra_overrides, per_skill.get(s)) for c, s in todo
+        row_overrides(args.robot, c, s, args.runs, hydra_overrides, per_skill.get(s), args.test_episodes)
+        for c, s in todo
     ]
     # every row, and every run directory a row resumes, checked before the first one trains
     configs = [checked_row_config(o) for o in overrides]

@@ -119,3 +119,15 @@ def test_bad_rows_and_missing_evaluation_are_refused_before_training(tmp_path):
     with pytest.raises(InputError, match="eval_episodes must be >= 1"):
         teacher_sweep.main(["--runs", str(tmp_path), "rl/ppo=tiny", "eval_episodes=0"])
     assert not any(tmp_path.iterdir())
+
+
+def test_test_episodes_raise_the_episodes_per_object_of_categories_with_few_test_objects(tmp_path):
+    def episodes(category: str, **kwargs) -> list[str]:
+        row = teacher_sweep.row_overrides("g1", category, "open", tmp_path, [], **kwargs)
+        return [o for o in row if o.startswith("eval_episodes=")]
+
+    assert episodes("cabinet", test_episodes=256) == ["eval_episodes=128"]  # 2 test objects
+    assert episodes("faucet", test_episodes=256) == ["eval_episodes=64"]  # 18 test objects: the default
+    assert episodes("cabinet") == ["eval_episodes=64"]
+    with pytest.raises(InputError, match="--test-episodes -1: expected N >= 0"):
+        teacher_sweep.main(["--runs", str(tmp_path), "--test-episodes", "-1"])
