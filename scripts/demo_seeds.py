@@ -7,7 +7,9 @@ Each `seed_<N>/` folder holds a run's teacher evaluation (`teacher_eval_256.json
 (`eval_teacher.jsonl`, `eval_vla.jsonl`, `eval_vla_seed1.jsonl`) and the VLA's held-out diagnostics
 (`vla_diagnostics.jsonl`); the first table gives the VLA's 60 episodes with their Wilson interval and the
 spread. Each `seed_<N>/variants/<name>/` folder holds the VLA records of one more VLA trained on that run's
-dataset with other settings (its `overrides.txt`); the next table lists them beside the run's own VLA.
+dataset with other settings (its `overrides.txt`); the next table lists them beside the run's own VLA. A
+`scripted/variants/<name>/` folder holds the same records of a VLA trained on the scripted teacher's dataset
+(`scripted/dataset_stats.json`), listed in a table of its own.
 """
 
 from __future__ import annotations
@@ -68,12 +70,19 @@ def main() -> None:
     )
     for run in runs:
         variants = sorted((run / "variants").glob("*"))
-        if not variants:
-            continue
-        print(f"\nVLAs trained on the dataset of PPO seed {run.name.removeprefix('seed_')}:\n")
-        rows = [["the demo's", *vla_cells(run)[0]]]
-        rows += [[f"`{(v / 'overrides.txt').read_text().strip()}`", *vla_cells(v)[0]] for v in variants]
-        print_table("| VLA settings " + VLA_HEADER, rows)
+        if variants:
+            print(f"\nVLAs trained on the dataset of PPO seed {run.name.removeprefix('seed_')}:\n")
+            print_table(
+                "| VLA settings " + VLA_HEADER, [["the demo's", *vla_cells(run)[0]], *variant_rows(variants)]
+            )
+    scripted = sorted((args.folder / "scripted" / "variants").glob("*"))
+    if scripted:
+        print("\nVLAs trained on the scripted teacher's dataset:\n")
+        print_table("| VLA settings " + VLA_HEADER, variant_rows(scripted))
+
+
+def variant_rows(variants: list[Path]) -> list[list[str]]:
+    return [[f"`{(v / 'overrides.txt').read_text().strip()}`", *vla_cells(v)[0]] for v in variants]
 
 
 if __name__ == "__main__":
