@@ -81,6 +81,15 @@ class ExportCfg:
     # stays, their fast reactions to inputs a VLA never observes go (mobilemani_data.convert.smoothed_labels).
     # The scripted teacher's labels are smooth already and stay raw.
     ppo_label_window: int = 9
+    # At most this many episodes of each combination, the first ones of its shard: those a collection of that
+    # many would have kept (episodes are kept in a fixed rank order, mobilemani_data.recorder). None: all.
+    episodes_per_combination: int | None = None
+    # Worker processes rendering parts of the dataset side by side (mobilemani_rl.utils.process_pool); the
+    # dataset does not depend on it, so a resumed export may change it.
+    workers: int = 1
+    # Consecutive combinations of the subset per part: the unit a worker renders and an interrupted export
+    # keeps (mobilemani_data.parts).
+    combinations_per_part: int = 16
     overwrite: bool = False
 
     def check(self) -> None:
@@ -190,6 +199,9 @@ class DataCfg:
                 "export.width": self.export.width,
                 "export.height": self.export.height,
                 "export.gop": self.export.gop,
+                "export.episodes_per_combination": self.export.episodes_per_combination,
+                "export.workers": self.export.workers,
+                "export.combinations_per_part": self.export.combinations_per_part,
                 "preview.episodes": self.preview.episodes,
                 "bench.episodes": self.bench.episodes,
             }

@@ -5,7 +5,8 @@
 Shards: readable, complete, consistent, and every float array of every episode finite (all episodes, one
 vectorised pass per array; a problem names the shard, episode, key and first row). Replay: for a sample of
 episodes, the world poses recomputed from each recorded state and the states reached by re-stepping the
-physics equal the recorded ones within the tolerance.
+physics equal the recorded ones within the tolerance. Shards are read one at a time, so a raw dataset larger
+than memory validates.
 Dataset: features as the schema says, one metadata line per episode, frame counts equal to the shards', every
 float column of every parquet file finite (named by file, episode, key and frame), frames decodable. Prints
 every problem (each naming its file) and exits non-zero if there is any.
@@ -14,6 +15,7 @@ every problem (each naming its file) and exits non-zero if there is any.
 from __future__ import annotations
 
 import sys
+from dataclasses import dataclass, field
 from pathlib import Path
 
 import hydra
@@ -44,14 +46,15 @@ from mobilemani_rl.utils.io import non_finite
 from mobilemani_rl.utils.video_logs import quiet_video_libraries
 
 
-def read_shards(raw_dir: Path, robot: str) -> tuple[list[Shard], list[str]]:
-    shards, problems = [], []
-    for path in shard_paths(raw_dir, robot):
-        try:
-            shards.append(read_shard(path))
-        except ShardError as err:
-            problems.append(str(err))
-    return shards, problems
+@dataclass
+class ShardChecks:
+    """What validation keeps of the raw shards: it reads one at a time, so memory stays that of one shard."""
+
+    # each readable shard's episode lengths, by its path relative to raw_dir
+    lengths: dict[str, list[int]] = field(default_factory=dict)
+    problems: list[str] = field(default_factory=list)
+    replayed: int = 0
+    worst: float = 0.0  # the largest replay error
 
 
 def episode_non_finite(shard: Shard, k: int) -> list[str]:
@@ -62,9 +65,27 @@ def episode_non_finite(shard: Shard, k: int) -> list[str]:
     ]
 
 
-def check_finite_shards(shards: list[Shard]) -> list[str]:
-    """Every float array of every episode of every shard holds finite numbers."""
-    return [problem for s in shards for k in range(len(s.episodes)) for problem in episode_non_finite(s, k)]
+def check_shards(raw_dir: Path, robot: str, cfg: ValidateCfg) -> ShardChecks:
+    """Every shard readable and every float array of every episode finite; the first episode of the first
+    `cfg.replay_episodes` readable shards replayed."""
+    checks = ShardChecks()
+    for path in shard_paths(raw_dir, robot):
+        try:
+            shard = read_shard(path)
+        except ShardError as err:
+            checks.problems.append(str(err))
+            continue
+        checks.lengths[str(path.relative_to(raw_dir))] = [episode.length for episode in shard.episodes]
+        checks.problems += [p for k in range(len(shard.episodes)) for p in episode_non_finite(shard, k)]
+        if checks.replayed < cfg.replay_episodes:
+            errors = Replayer(shard).check(shard.episodes[0])
+            checks.replayed += 1
+            checks.worst = max(checks.worst, errors.worst())
+            if errors.worst() > cfg.tolerance:
+                checks.problems.append(
+                    f"{shard.path}: episode 0 replays with error {errors} > {cfg.tolerance}"
+                )
+    return checks
 
 
 def column_values(column: pa.ChunkedArray) -> np.ndarray:
@@ -88,24 +109,11 @@ def check_finite_dataset(root: Path, float_keys: list[str]) -> list[str]:
     return problems
 
 
-def check_replay(shards: list[Shard], cfg: ValidateCfg) -> tuple[list[str], float]:
-    """Replay the first episode of as many shards as `replay_episodes` asks for;
-    returns problems, worst error."""
-    problems, worst = [], 0.0
-    for shard in shards[: cfg.replay_episodes]:
-        errors = Replayer(shard).check(shard.episodes[0])
-        worst = max(worst, errors.worst())
-        if errors.worst() > cfg.tolerance:
-            problems.append(f"{shard.path}: episode 0 replays with error {errors} > {cfg.tolerance}")
-    return problems, worst
-
-
 def check_dataset(
     root: Path,
     repo_id: str,
-    raw_dir: Path,
     robot_name: str,
-    shards: list[Shard],
+    shard_lengths: dict[str, list[int]],
     cfg: ValidateCfg,
 ) -> list[str]:
     robot = get_robot(robot_name)
@@ -134,18 +142,17 @@ def check_dataset(
     if len(episodes) != meta.total_episodes:
         problems.append(f"{root}: {len(episodes)} metadata lines for {meta.total_episodes} episodes")
     lengths = dict(zip(meta.episodes["episode_index"], meta.episodes["length"], strict=True))
-    by_name = {str(s.path.relative_to(raw_dir)): s for s in shards}
     for line in episodes:
         i = line["episode_index"]
         missing = [k for k in schema.EPISODE_METADATA if k not in line]
-        shard = by_name.get(line["shard"])
+        shard = shard_lengths.get(line["shard"])
         if missing:
             problems.append(f"{root}: episode {i} lacks metadata {missing}")
         if lengths.get(i) != line["length"]:
             problems.append(
                 f"{root}: episode {i} has {lengths.get(i)} frames, metadata says {line['length']}"
             )
-        if shard is not None and shard.episodes[line["shard_episode"]].length - FIRST_FRAME != line["length"]:
+        if shard is not None and shard[line["shard_episode"]] - FIRST_FRAME != line["length"]:
             problems.append(f"{root}: episode {i} length differs from its shard {line['shard']}")
     if meta.total_frames != sum(line["length"] for line in episodes):
         problems.append(f"{root}: {meta.total_frames} frames, metadata lengths sum to another count")
@@ -174,15 +181,14 @@ def check_dataset(
 
 def validate(cfg: DataCfg) -> list[str]:
     raw_dir, root = Path(cfg.raw_dir), Path(cfg.dataset_dir)
-    shards, problems = read_shards(raw_dir, cfg.robot)
-    print(f"{len(shards)} readable shards, {sum(len(s.episodes) for s in shards)} episodes under {raw_dir}")
-    problems += check_finite_shards(shards)
-    replay_problems, worst = check_replay(shards, cfg.validate)
-    problems += replay_problems
-    print(f"replay of {min(len(shards), cfg.validate.replay_episodes)} episodes: largest error {worst:.3g}")
+    checks = check_shards(raw_dir, cfg.robot, cfg.validate)
+    problems = checks.problems
+    episodes = sum(len(lengths) for lengths in checks.lengths.values())
+    print(f"{len(checks.lengths)} readable shards, {episodes} episodes under {raw_dir}")
+    print(f"replay of {checks.replayed} episodes: largest error {checks.worst:.3g}")
     if root.exists():
-        problems += check_dataset(root, cfg.export.repo_id, raw_dir, cfg.robot, shards, cfg.validate)
-    elif shards:
+        problems += check_dataset(root, cfg.export.repo_id, cfg.robot, checks.lengths, cfg.validate)
+    elif checks.lengths:
         print(f"no dataset at {root}; checked the shards only")
     else:
         problems.append(

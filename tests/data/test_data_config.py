@@ -71,7 +71,7 @@ def test_an_empty_selection_names_the_key_that_emptied_it():
         select_combinations("g1", SubsetCfg(objects=["test/box"], split="test", scenes=["door/00"]))
 
 
-@pytest.mark.parametrize("subset", ["small", "tiny", "train", "test"])
+@pytest.mark.parametrize("subset", ["small", "tiny", "train", "test", "ablation"])
 def test_hydra_tree_converts_to_the_dataclasses(subset):
     with initialize_config_dir(config_dir=str(CONF), version_base="1.3"):
         composed = compose("data", overrides=[f"data/subset={subset}", "robot=xhand"])
@@ -80,6 +80,28 @@ def test_hydra_tree_converts_to_the_dataclasses(subset):
     assert cfg.env.task.robot == "xhand"
     with initialize_config_dir(config_dir=str(CONF), version_base="1.3"), pytest.raises(ConfigKeyError):
         to_dataclass(with_env_task(compose("data", overrides=["+export.no_such_key=1"])), DataCfg)
+
+
+def test_the_ablation_preset_is_the_papers_ablation_subset_at_cpu_scale():
+    """272 train objects x 16 train rooms (4,352 combinations) and 66 test objects x 4 test rooms (264), of
+    six categories and the skills open, pull and pick, as the paper's Section 4.2 lists them."""
+    with initialize_config_dir(config_dir=str(CONF), version_base="1.3"):
+        composed = compose("data", overrides=["data/preset=ablation"])
+    cfg = to_dataclass(with_env_task(composed), DataCfg).check()
+    train = select_combinations(cfg.robot, cfg.subset)
+    assert len(train) == 4352 and len({c.object_id for c in train}) == 272
+    assert {c.category for c in train} == {"laptop", "cabinet", "faucet", "table", "cart", "holistic"}
+    assert {c.skill for c in train} == {"open", "pull", "pick"} and {c.split for c in train} == {"train"}
+    rooms = {}
+    for combo in train:
+        rooms.setdefault(combo.object_id, set()).add(combo.scene)
+    assert {len(scenes) for scenes in rooms.values()} == {16}
+    test = select_combinations(cfg.robot, SubsetCfg(**{**vars(cfg.subset), "split": "test"}))
+    assert len(test) == 264 and len({c.object_id for c in test}) == 66
+    assert (cfg.robot, cfg.teacher.kind, cfg.teacher.runs_dir) == ("g1", "ppo", "outputs/teachers")
+    assert cfg.collect.action_noise > 0 and cfg.export.room_repaint > 0
+    assert (cfg.export.width, cfg.export.height, cfg.export.episodes_per_combination) == (64, 64, 1)
+    assert (cfg.export.cameras, cfg.export.modalities) == (["head", "wrist"], ["rgb", "depth"])
 
 
 def test_labels_are_shifted_and_states_drop_the_reset():

@@ -20,6 +20,11 @@ def test_non_positive_counts_name_their_keys(tmp_path):
     ("override", "named"),
     [
         ("export.gop=0", "export.gop=0"),
+        ("export.episodes_per_combination=0", "export.episodes_per_combination=0"),
+        (
+            "export.workers=0 export.combinations_per_part=-1",
+            "export.workers=0, export.combinations_per_part=-1",
+        ),
         ("collect.action_noise=-0.3", r"collect.action_noise=-0.3 \(a standard deviation, >= 0\)"),
         ("collect.compression=12", r"collect.compression=12 \(a gzip level, 0 to 9\)"),
         ("teacher.min_train_success=10", r"teacher.min_train_success=10.0 \(a success rate, 0 to 1\)"),

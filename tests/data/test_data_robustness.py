@@ -17,6 +17,7 @@ from mobilemani_data.collect import collect
 from mobilemani_data.combos import shard_path
 from mobilemani_data.export import export
 from mobilemani_data.metadata import open_dataset_metadata, read_episodes, read_export_report
+from mobilemani_data.parts import parts_dir
 from mobilemani_data.shards import PARTIAL_SUFFIX, read_shard, shard_paths
 from mobilemani_data.validate import validate
 from mobilemani_rl.envs.tasks import select_combinations
@@ -277,6 +278,7 @@ def test_killed_export_leaves_nothing_complete_and_the_rerun_exports_everything(
         "export.width=64",
         "export.height=64",
         "export.vcodec=h264",
+        "export.combinations_per_part=1",
     ]
     proc = subprocess.Popen(
         [sys.executable, "-m", "mobilemani_data.export", *overrides],
@@ -285,7 +287,7 @@ def test_killed_export_leaves_nothing_complete_and_the_rerun_exports_everything(
         stderr=subprocess.DEVNULL,
         text=True,
     )
-    # A line per shard once its episodes are in the dataset: kill after the first of four.
+    # A line per part (here one shard) once it is rendered: kill after the first of four.
     line = ""
     while "episodes" not in line and proc.poll() is None:
         line = proc.stdout.readline()
@@ -293,7 +295,7 @@ def test_killed_export_leaves_nothing_complete_and_the_rerun_exports_everything(
     proc.wait()
     assert "episodes" in line
     root = Path(cfg.dataset_dir)
-    assert not root.exists() and root.with_name(root.name + ".partial").exists()
+    assert not root.exists() and (parts_dir(root) / "part-00000").is_dir()
     report = export(cfg)
     assert (report.episodes, report.skipped) == (8, []) and validate(cfg) == []
-    assert not root.with_name(root.name + ".partial").exists()
+    assert not root.with_name(root.name + ".partial").exists() and not parts_dir(root).exists()
