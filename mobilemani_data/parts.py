@@ -12,7 +12,6 @@ collected later changes only its own part.
 from __future__ import annotations
 
 import json
-import os
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -20,7 +19,7 @@ from lerobot.datasets.aggregate import aggregate_datasets
 
 from mobilemani_data.combos import shard_path
 from mobilemani_rl.envs.tasks import Combination
-from mobilemani_rl.utils.io import read_json
+from mobilemani_rl.utils.io import read_json, replace_synced
 
 PARTS = ".parts"
 PARTIAL = ".partial"
@@ -65,12 +64,7 @@ def seal_part(tmp: Path, folder: Path, manifest: dict) -> None:
     """Write the manifest into the rendered part `tmp`, then rename it to `folder`: the part is complete."""
     path = tmp / MANIFEST
     path.write_text(json.dumps(manifest, indent=1))
-    fd = os.open(path, os.O_RDONLY)
-    try:
-        os.fsync(fd)  # the manifest is on disk before the name says "complete"
-    finally:
-        os.close(fd)
-    os.replace(tmp, folder)
+    replace_synced(tmp, folder, path)
 
 
 def merge_parts(folders: list[Path], repo_id: str, root: Path) -> None:

@@ -19,12 +19,13 @@ reference drops its terminal frame.
 
 from __future__ import annotations
 
-import os
 from dataclasses import dataclass, field
 from pathlib import Path
 
 import h5py
 import numpy as np
+
+from mobilemani_rl.utils.io import replace_synced
 
 FORMAT_VERSION = 1
 SUFFIX = ".h5"
@@ -111,12 +112,7 @@ def write_shard(path: Path, header: dict, episodes: list[Episode], compression: 
                     fletcher32=True,
                 )
         f.attrs["complete"] = True
-    fd = os.open(tmp, os.O_RDONLY)
-    try:
-        os.fsync(fd)  # the bytes are on disk before the name says "complete"
-    finally:
-        os.close(fd)
-    os.replace(tmp, path)
+    replace_synced(tmp, path, tmp)
 
 
 def _attrs(f: h5py.File) -> dict:

@@ -24,6 +24,17 @@ def write_json_atomic(path: Path, payload: dict | list) -> None:
     os.replace(tmp, path)
 
 
+def replace_synced(tmp: Path, path: Path, synced: Path) -> None:
+    """Rename `tmp` to `path` once `synced` (the file whose presence marks `tmp` complete) is on disk, so the
+    final name never stands for something a crash could leave incomplete."""
+    fd = os.open(synced, os.O_RDONLY)
+    try:
+        os.fsync(fd)
+    finally:
+        os.close(fd)
+    os.replace(tmp, path)
+
+
 def read_json(path: Path) -> Any:
     """A JSON file the project or LeRobot wrote; one error naming it when it is damaged (writers replace their
     files whole, so the damage came from outside)."""

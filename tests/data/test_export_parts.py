@@ -1,8 +1,10 @@
 """The export takes the subset's combinations from the raw shards, caps the episodes per combination, renders
 its parts on worker processes, and resumes an interrupted run from the parts it finished."""
 
+import itertools
 import json
 import shutil
+from collections.abc import Callable
 from pathlib import Path
 
 import pytest
@@ -92,23 +94,28 @@ def test_a_subset_without_shards_stops_before_anything_is_written(collected, tmp
     assert not root.exists() and not parts_dir(root).exists()
 
 
+def interrupted_export(cfg, monkeypatch, stop: Callable[[Path], bool]) -> None:
+    """Export with the shard reader raising Stopped at the first shard `stop` names, as a kill would."""
+    read_shard = export_module.read_shard
+
+    def reading(path: Path):
+        if stop(path):
+            raise Stopped
+        return read_shard(path)
+
+    monkeypatch.setattr(export_module, "read_shard", reading)
+    with pytest.raises(Stopped):
+        export(cfg)
+    monkeypatch.undo()
+
+
 def test_an_interrupted_export_keeps_its_finished_parts_and_the_rerun_adds_the_rest(
     collected, tmp_path, monkeypatch, capsys
 ):
     cfg = copy_of(collected, tmp_path, "export.combinations_per_part=1")
     root, folder = Path(cfg.dataset_dir), parts_dir(Path(cfg.dataset_dir))
-    read_shard, reads = export_module.read_shard, []
-
-    def stopped_at_the_third_shard(path: Path):
-        reads.append(path)
-        if len(reads) == 3:
-            raise Stopped
-        return read_shard(path)
-
-    monkeypatch.setattr(export_module, "read_shard", stopped_at_the_third_shard)
-    with pytest.raises(Stopped):
-        export(cfg)
-    monkeypatch.undo()
+    reads = itertools.count(1)
+    interrupted_export(cfg, monkeypatch, lambda _: next(reads) == 3)  # stopped at the third shard
     # Two parts complete, the third cut short under its temporary name, no dataset.
     assert sorted(p.name for p in folder.iterdir()) == ["part-00000", "part-00001", "part-00002.partial"]
     assert not root.exists() and not root.with_name(root.name + PARTIAL).exists()
@@ -131,17 +138,8 @@ def test_parts_of_an_interrupted_export_with_other_settings_are_rendered_again(
     collected, tmp_path, monkeypatch
 ):
     cfg = copy_of(collected, tmp_path, "export.combinations_per_part=1")
-    read_shard = export_module.read_shard
-
-    def stopped_at_the_second_shard(path: Path):
-        if path != Path(cfg.raw_dir) / collected_shards(cfg)[0]:
-            raise Stopped
-        return read_shard(path)
-
-    monkeypatch.setattr(export_module, "read_shard", stopped_at_the_second_shard)
-    with pytest.raises(Stopped):
-        export(cfg)
-    monkeypatch.undo()
+    first = Path(cfg.raw_dir) / collected_shards(cfg)[0]
+    interrupted_export(cfg, monkeypatch, lambda path: path != first)  # stopped at the second shard
     folder = parts_dir(Path(cfg.dataset_dir))
     assert (folder / "part-00000" / MANIFEST).is_file()
     cfg.export.combinations_per_part = 4  # one part: part-00000 again, now of four shards
