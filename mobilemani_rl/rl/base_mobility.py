@@ -6,9 +6,10 @@
 Reads the row records the teacher sweep writes (`python -m mobilemani_rl.rl.sweep`, `teachers_g1.json`;
 `make teachers-base-ablation` runs both): the mobile rows from `--mobile`, the rows trained with
 `env=fixed_base` from `--fixed`. For each of the paper's six combinations it shows the success over the row's
-test objects with its episodes and Wilson 95% interval, and the mean over the rows with a normal-approximation
-interval, beside the paper's 82.8% (mobile) and 25.4% (fixed). Prints Markdown; `--out` also writes
-rl_base_mobility.md and .tex. With a file missing it says which and prints the paper's numbers only.
+test objects with its episodes and Wilson 95% interval, and the mean over the rows both columns have, with a
+normal-approximation interval, beside the paper's 82.8% (mobile) and 25.4% (fixed). Prints Markdown; `--out`
+also writes rl_base_mobility.md and .tex. With a file missing it says which and prints the paper's numbers
+only.
 """
 
 from __future__ import annotations
@@ -73,8 +74,10 @@ def base_mobility_table(mobile: dict, fixed: dict) -> Table:
         ]
         for category, skill in COMBINATIONS
     ]
-    means = [mean_cell([c[row] for row in COMBINATIONS if row in c]) for c in (mobile, fixed)]
-    table_rows.append(["Mean", *means])
+    # Means over the rows both columns have, so that a column's missing rows do not move the comparison.
+    shared = [row for row in COMBINATIONS if row in mobile and row in fixed]
+    means = [mean_cell([column[row] for row in shared]) for column in (mobile, fixed)]
+    table_rows.append(["Mean (rows in both)", *means])
     table_rows.append(["Paper (G1)", f"{PAPER['mobile']:.1f}", f"{PAPER['fixed']:.1f}"])
     return Table(
         ["Combination", "Mobile base", "Fixed base"],
