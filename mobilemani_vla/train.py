@@ -302,6 +302,8 @@ def _train(cfg: VLACfg, held: ExitStack) -> TrainResult:
         desc="vla",
         disable=not (cfg.train.progress and accelerator.is_local_main_process),
     )
+    if start == 0:
+        run_diagnostics(0)  # the untrained model's, the reference for how its features change
     clock = time.perf_counter()
     for step in bar:
         batch = next(batches)

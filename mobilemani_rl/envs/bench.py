@@ -1,13 +1,14 @@
 """Environment throughput against the raw physics limit, measured in the same run.
 
-    python -m mobilemani_rl.envs.bench [--robots g1 xhand] [--envs 64 256 1024] [--seconds 3]
+    python -m mobilemani_rl.envs.bench [--robots g1 xhand] [--envs 64 256 1024] [--seconds 3] [--profile 200]
 
 env: `MobileManiEnv.step` with random actions (IK, physics, observations, rewards, resets).
 raw: the same compiled model in a `mujoco.batch.Batch` of the same size and thread count replaying the joint
 targets the env produced (same start state, same motion), in one `Batch.rollout` call per 32 control steps, so
 with no Python work between steps.
 Both report control steps per second (x substeps = physics steps per second), best of interleaved trials.
-Prints a table and JSON.
+--profile N: also each stage's share of N steps through the rsl-rl adapter (mobilemani_rl.envs.step_profile),
+on a fresh env of the same size. Prints tables and JSON.
 """
 
 from __future__ import annotations
@@ -24,6 +25,7 @@ import numpy as np
 from mobilemani_rl.assets.robots import ROBOTS
 from mobilemani_rl.envs.config import EnvCfg, TaskCfg
 from mobilemani_rl.envs.mobilemani_env import MobileManiEnv
+from mobilemani_rl.envs.step_profile import profile_step, profile_table
 from mobilemani_rl.utils.cli import count, entry_point, seconds
 
 
@@ -77,8 +79,16 @@ def raw_physics_replay(
     return replay, segment
 
 
-def bench_task(robot: str, num_envs: int, seconds: float, obj: str = "test/box", skill: str = "open") -> dict:
-    env = MobileManiEnv(EnvCfg(num_envs=num_envs, task=TaskCfg(robot=robot, object=obj, skill=skill)))
+def bench_task(
+    robot: str,
+    num_envs: int,
+    seconds: float,
+    profile_steps: int = 0,
+    obj: str = "test/box",
+    skill: str = "open",
+) -> dict:
+    cfg = EnvCfg(num_envs=num_envs, task=TaskCfg(robot=robot, object=obj, skill=skill))
+    env = MobileManiEnv(cfg)
     env.reset()
     rng = np.random.default_rng(0)
     actions = rng.uniform(-1, 1, (64, num_envs, env.num_actions))
@@ -91,6 +101,7 @@ def bench_task(robot: str, num_envs: int, seconds: float, obj: str = "test/box",
     raw = raw_physics_replay(env, rng)
     rates = interleaved_rates({"env": (env_step, 1), "raw": raw}, num_envs, seconds)
     env_rate, raw_rate = rates["env"], rates["raw"]
+    profile = {"profile": profile_step(MobileManiEnv(cfg), profile_steps)} if profile_steps else {}
     return {
         "robot": robot,
         "num_envs": num_envs,
@@ -100,6 +111,7 @@ def bench_task(robot: str, num_envs: int, seconds: float, obj: str = "test/box",
         "raw_steps_per_s": round(raw_rate),
         "raw_physics_steps_per_s": round(raw_rate * substeps),
         "env_over_raw": round(env_rate / raw_rate, 3),
+        **profile,
     }
 
 
@@ -119,8 +131,11 @@ def main(argv: list[str] | None = None) -> list[dict]:
     parser.add_argument("--robots", nargs="+", default=["g1", "xhand"], choices=sorted(ROBOTS))
     parser.add_argument("--envs", nargs="+", type=count, default=[64, 256, 1024])
     parser.add_argument("--seconds", type=seconds, default=6.0, help="timing budget per (robot, envs) pair")
+    parser.add_argument("--profile", type=count, default=0, metavar="N", help="profile N steps per pair")
     args = parser.parse_args(argv)
-    results = [bench_task(r, n, args.seconds) for r in args.robots for n in args.envs]
+    results = [bench_task(r, n, args.seconds, args.profile) for r in args.robots for n in args.envs]
+    if args.profile:
+        print(profile_table(results) + "\n")
     print_report(
         "sim",
         results,

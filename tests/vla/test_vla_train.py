@@ -66,7 +66,7 @@ def test_a_new_output_directory_is_made_before_the_first_diagnostics(dataset_roo
     out = tmp_path / "runs" / "new"
     train(tiny_cfg(dataset_root, out, ["train.steps=2", "train.diagnose_every=1", "train.save_every=100"]))
     lines = (out / "diagnostics.jsonl").read_text().splitlines()
-    assert [json.loads(line)["step"] for line in lines] == [1, 2]
+    assert [json.loads(line)["step"] for line in lines] == [0, 1, 2]  # the untrained model's first
 
 
 def test_a_second_training_run_on_the_same_output_directory_stops(dataset_root, tmp_path):
@@ -138,7 +138,8 @@ def test_cognition_targets_add_a_read_out_loss_and_its_diagnostic(dataset_root, 
     # training logs the read-out's held-out error
     out = tmp_path / "run"
     train(tiny_cfg(dataset_root, out, [*targets, "train.steps=1", "train.diagnose_every=1"]))
-    assert json.loads((out / "diagnostics.jsonl").read_text())["cognition/target_mse"] > 0
+    last = (out / "diagnostics.jsonl").read_text().splitlines()[-1]
+    assert json.loads(last)["step"] == 1 and json.loads(last)["cognition/target_mse"] > 0
 
 
 def test_the_evaluators_batch_gives_the_model_what_training_frames_give():
@@ -224,7 +225,7 @@ def test_checkpoint_resume_and_policy(dataset_root, tmp_path):
     resumed = train(longer)
     assert len(resumed.losses) == 2  # steps 4 and 5 only
     diagnostics = [json.loads(line) for line in (tmp_path / "diagnostics.jsonl").read_text().splitlines()]
-    assert [d["step"] for d in diagnostics] == [2, 4]  # held-out diagnostics, none repeated by the resume
+    assert [d["step"] for d in diagnostics] == [0, 2, 4]  # held-out diagnostics, none repeated by the resume
     keys = {"image", "null_image", "no_state", "null_instruction", "wrong_instruction"}
     assert {f"noise_mse/{k}" for k in keys} | {"open_loop_mse/cfg_1.5"} <= set(diagnostics[-1])
     assert diagnostics[-1]["cognition/spread"] > 0 and diagnostics[-1]["cognition/image_swap"] > 0
