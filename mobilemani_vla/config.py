@@ -133,6 +133,9 @@ class TrainCfg:
     diagnose_cfg_scales: list[float] = field(default_factory=lambda: [1.0, 1.5])  # open-loop error per scale
     save_every: int = 500
     keep_checkpoints: int = 2
+    # > 0: this run is one piece of a longer one: after this many minutes it saves a checkpoint and stops,
+    # and the next run on train.output_dir resumes there (0: run to train.steps)
+    piece_minutes: float = 0.0
     resume: bool = True  # continue from the newest checkpoint in output_dir; false: refuse one that holds any
     logger: str = "wandb"  # "wandb" (offline unless WANDB_MODE says otherwise) or "none"
     progress: bool = True
@@ -185,6 +188,7 @@ class VLACfg:
         check_values(
             [
                 ("train.lr", t.lr, t.lr > 0, "above 0"),
+                ("train.piece_minutes", t.piece_minutes, t.piece_minutes >= 0, ">= 0; 0: no limit"),
                 ("train.warmup_steps", t.warmup_steps, t.warmup_steps >= 0, ">= 0"),
                 ("train.ema_decay", t.ema_decay, 0 <= t.ema_decay < 1, "in [0, 1); 0 keeps no average"),
                 ("train.grad_clip", t.grad_clip, t.grad_clip >= 0, ">= 0; 0 clips nothing"),

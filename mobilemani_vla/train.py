@@ -168,6 +168,14 @@ def adamw(model: nn.Module, cfg: TrainCfg) -> torch.optim.AdamW:
     return torch.optim.AdamW(model.parameters(), lr=cfg.lr, weight_decay=cfg.weight_decay, fused=True)
 
 
+def piece_over(cfg: TrainCfg, start: float, accelerator: Accelerator) -> bool:
+    """Whether this run's piece (train.piece_minutes) is used up; every process stops at the same step."""
+    if cfg.piece_minutes <= 0:
+        return False
+    over = float(time.perf_counter() - start > 60 * cfg.piece_minutes)
+    return accelerator.reduce(torch.tensor(over, device=accelerator.device), reduction="sum").item() > 0
+
+
 def _trim_log(path: Path, step: int) -> None:
     """Drop diagnostics a killed run wrote after the checkpoint it resumes from."""
     if path.is_file():
@@ -270,6 +278,8 @@ def _train(cfg: VLACfg, held: ExitStack) -> TrainResult:
         if diagnose_batch is None:
             return
         values = diagnose(evaluated_model(), diagnose_batch, cfg.train.diagnose_cfg_scales)
+        if window := losses[-cfg.train.diagnose_every :]:  # the training curve beside the held-out one
+            values["train_loss"] = sum(window) / len(window)
         accelerator.log({f"diag/{k}": v for k, v in values.items()}, step=at)
         with diagnostics_log.open("a") as f:
             f.write(json.dumps({"step": at, **values}) + "\n")
@@ -304,7 +314,7 @@ def _train(cfg: VLACfg, held: ExitStack) -> TrainResult:
     )
     if start == 0:
         run_diagnostics(0)  # the untrained model's, the reference for how its features change
-    clock = time.perf_counter()
+    clock = piece_start = time.perf_counter()
     for step in bar:
         batch = next(batches)
         batch["pixel_values"] = augment_images(batch["pixel_values"], cfg.inputs.cameras, cfg.train.augment)
@@ -332,6 +342,12 @@ def _train(cfg: VLACfg, held: ExitStack) -> TrainResult:
             run_diagnostics(done)
         if done % cfg.train.save_every == 0 and done < cfg.train.steps:
             save(done)
+        if piece_over(cfg.train, piece_start, accelerator) and done < cfg.train.steps:
+            if done % cfg.train.save_every:
+                save(done)
+            accelerator.end_training()
+            print(f"train.piece_minutes reached at step {done}: a rerun resumes from here", flush=True)
+            return TrainResult(losses, checkpoint_dir(output_dir, done), evaluated_model(), processor)
     final = save(cfg.train.steps) if start < cfg.train.steps else resume_from
     accelerator.end_training()
     if accelerator.is_main_process:

@@ -140,7 +140,7 @@ class CachedFrames(Dataset):
         self,
         table: FrameTable,
         rows: np.ndarray,
-        images: np.ndarray,
+        images: dict[str, np.ndarray],
         cameras: list[str],
         states: list[str],
         chunk: int,
@@ -153,9 +153,9 @@ class CachedFrames(Dataset):
 
     def __getitem__(self, i: int) -> dict:
         row = int(self.rows[i])
-        frames = torch.from_numpy(np.array(self.images[row]))  # a copy: the cache is a read-only map
         chunk_rows, pad = self.table.chunk(row, self.chunk_length)
-        item = {camera_key(c): frames[k] for k, c in enumerate(self.cameras)}
+        # copies: the cache is a read-only map
+        item = {camera_key(c): torch.from_numpy(np.array(self.images[c][row])) for c in self.cameras}
         item.update({k: torch.from_numpy(self.table.columns[k][row]) for k in state_features(self.states)})
         item[schema.ACTION] = torch.from_numpy(self.table.columns[schema.ACTION][chunk_rows])
         item[PAD] = torch.from_numpy(pad)

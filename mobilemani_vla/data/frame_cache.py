@@ -1,12 +1,15 @@
 """Decoded camera frames of a LeRobot dataset, cached next to it so that VLA training is compute-bound.
 
 Decoding four video streams costs ~20 ms per randomly accessed sample; the cache decodes every episode once,
-sequentially, resizes the frames to the model's input size and keeps them as one uint8 array
-`<dataset>/vla_cache/<cameras>_<size>px/images.npy` of shape (frames, cameras, 3, size, size), read through a
-memory map. A manifest records a fingerprint of the files the frames come from (videos, episode metadata); a
-cache whose fingerprint no longer matches is rebuilt. The cache is built under a temporary name and renamed
-when complete, so an interrupted build is never used; runs started together on one dataset take turns, so the
-first builds the cache and the others read it.
+sequentially, resizes the frames to the model's input size and keeps each camera stream as one uint8
+array `<dataset>/vla_cache/<camera>_<size>px/images.npy` of shape (frames, 3, size, size), read through a
+memory map. One array per camera, not per camera set: runs that read different cameras of one dataset (the
+image-input ablation) share the streams they have in common, on a large dataset tens of GB of disk and of
+decoding.
+A manifest records a fingerprint of the files the frames come from (videos, episode metadata); a stream whose
+fingerprint no longer matches is rebuilt. Each stream is built under a temporary name and renamed when
+complete, so an interrupted build is never used; runs started together on one dataset take turns, so the first
+builds a stream and the others read it.
 """
 
 from __future__ import annotations
@@ -48,8 +51,8 @@ def dataset_fingerprint(root: Path) -> str:
     return digest.hexdigest()
 
 
-def cache_dir(root: Path, cameras: list[str], size: int) -> Path:
-    return root / CACHE_DIR / f"{'+'.join(cameras)}_{size}px"
+def cache_dir(root: Path, camera: str, size: int) -> Path:
+    return root / CACHE_DIR / f"{camera}_{size}px"
 
 
 def _decode_episode(
@@ -72,7 +75,7 @@ def _decode_episode(
 def _build(
     root: Path,
     meta: LeRobotDatasetMetadata,
-    cameras: list[str],
+    camera: str,
     size: int,
     backend: str,
     target: Path,
@@ -83,22 +86,19 @@ def _build(
     shutil.rmtree(tmp, ignore_errors=True)
     tmp.mkdir(parents=True)
     images = np.lib.format.open_memmap(
-        tmp / IMAGES, mode="w+", dtype=np.uint8, shape=(meta.total_frames, len(cameras), 3, size, size)
+        tmp / IMAGES, mode="w+", dtype=np.uint8, shape=(meta.total_frames, 3, size, size)
     )
     for episode in tqdm(
         meta.episodes, desc=f"frame cache {target.name}", unit="episode", disable=not progress
     ):
         rows = slice(episode["dataset_from_index"], episode["dataset_to_index"])
-        for k, camera in enumerate(cameras):
-            frames = resize_images(
-                _decode_episode(root, meta, episode, camera, backend).float() / 255.0, size
-            )
-            images[rows, k] = (frames * 255.0).round().clamp(0, 255).to(torch.uint8).numpy()
+        frames = resize_images(_decode_episode(root, meta, episode, camera, backend).float() / 255.0, size)
+        images[rows] = (frames * 255.0).round().clamp(0, 255).to(torch.uint8).numpy()
     images.flush()
     del images
     (tmp / MANIFEST).write_text(
         json.dumps(
-            {"fingerprint": fingerprint, "cameras": cameras, "size": size, "frames": meta.total_frames},
+            {"fingerprint": fingerprint, "camera": camera, "size": size, "frames": meta.total_frames},
             indent=1,
         )
     )
@@ -113,15 +113,42 @@ def cached_images(
     size: int,
     backend: str = "pyav",
     progress: bool = True,
-) -> np.ndarray:
-    """(frames, len(cameras), 3, size, size) uint8 in dataset index order; built on first use or when the
-    dataset changed, otherwise read from disk."""
-    target = cache_dir(root, cameras, size)
-    target.parent.mkdir(parents=True, exist_ok=True)
+) -> dict[str, np.ndarray]:
+    """Each camera's (frames, 3, size, size) uint8 frames in dataset index order; a stream is built on first
+    use or when the dataset changed, otherwise read from disk."""
     fingerprint = dataset_fingerprint(root)
+    ready: set[str] = set()
+    # First the streams no other run is building, then a wait for the rest: runs started together build
+    # different streams side by side.
+    for wait in (False, True):
+        for camera in cameras:
+            if camera not in ready and _ensure_stream(
+                root, meta, camera, size, backend, fingerprint, progress, wait
+            ):
+                ready.add(camera)
+    return {camera: np.load(cache_dir(root, camera, size) / IMAGES, mmap_mode="r") for camera in cameras}
+
+
+def _ensure_stream(
+    root: Path,
+    meta: LeRobotDatasetMetadata,
+    camera: str,
+    size: int,
+    backend: str,
+    fingerprint: str,
+    progress: bool,
+    wait: bool,
+) -> bool:
+    """Build one camera's stream unless it is up to date; False (nothing done) when another run holds it and
+    `wait` is false."""
+    target = cache_dir(root, camera, size)
+    target.parent.mkdir(parents=True, exist_ok=True)
     manifest = target / MANIFEST
-    with target.with_name(target.name + ".lock").open("a") as lock:
-        fcntl.flock(lock, fcntl.LOCK_EX)  # waits for a build in progress; released when the file closes
+    with target.with_name(target.name + ".lock").open("a") as lock:  # released when the file closes
+        try:
+            fcntl.flock(lock, fcntl.LOCK_EX | (0 if wait else fcntl.LOCK_NB))
+        except BlockingIOError:
+            return False
         if not manifest.is_file() or read_json(manifest).get("fingerprint") != fingerprint:
-            _build(root, meta, cameras, size, backend, target, fingerprint, progress)
-    return np.load(target / IMAGES, mmap_mode="r")
+            _build(root, meta, camera, size, backend, target, fingerprint, progress)
+    return True

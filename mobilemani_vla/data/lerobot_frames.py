@@ -52,7 +52,7 @@ class CachedStreams:
         LeRobot's reader when there is one."""
         offsets = np.clip(np.rint(np.asarray(timestamps) * self.fps).astype(int), 0, episode["length"] - 1)
         rows = episode["dataset_from_index"] + offsets
-        frames = torch.from_numpy(np.ascontiguousarray(self.images[rows, self.keys.index(key)]))
+        frames = torch.from_numpy(np.ascontiguousarray(self.images[CACHE_CAMERAS[key]][rows]))
         return (frames if as_uint8 else frames.float() / 255.0).squeeze(0)
 
 

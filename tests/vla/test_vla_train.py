@@ -29,7 +29,8 @@ from mobilemani_vla.train import train
 
 CONF = str(ROOT / "conf")
 EXPERIMENTS = sorted(p.stem for p in (Path(CONF) / "experiment").glob("ablation_*.yaml"))
-ALIASES = {"ablation_depth": "ablation_image_head_rgbd"}  # the paper's name for that row
+# the paper's name for a row, and the main model's second row
+ALIASES = {"ablation_depth": "ablation_image_head_rgbd", "ablation_state_wrist_pose": "ablation_image_all"}
 
 
 @pytest.fixture(scope="module")
@@ -178,6 +179,7 @@ def test_experiment_configs_compose_and_train(experiment, dataset_root, tmp_path
     with initialize_config_dir(config_dir=CONF, version_base="1.3"):  # alone it is the paper's 3B setting
         paper = compose(config_name="vla", overrides=[f"+experiment={experiment}"])
     assert (paper.model.name, paper.train.batch_size, paper.train.steps) == ("paligemma2_3b", 120, 160000)
+    assert paper.data.root == "outputs/data/ablation/lerobot"  # the ablation dataset, at either scale
     result = train(cfg)
     assert len(result.losses) == 2 and np.isfinite(result.losses).all()
     model = result.model
@@ -301,7 +303,7 @@ def test_frame_cache_is_built_once_reused_and_rebuilt_when_the_dataset_changes(t
     root = write_synthetic_dataset(tmp_path / "g1", episodes=2, length=12)
     cfg = tiny_cfg(root, tmp_path / "out")  # one episode trains, one is held out
     data = open_data(cfg, 32, progress=False)
-    cache = cache_dir(root, cfg.inputs.cameras, 32) / "images.npy"
+    cache = cache_dir(root, cfg.inputs.cameras[0], 32) / "images.npy"
     built = cache.stat().st_mtime_ns
     # Cached frames are the LeRobot-decoded frames resized to the model's input (within uint8 rounding).
     decoded = open_data(tiny_cfg(root, tmp_path / "out", ["data.cache=false"]), 32, progress=False)
@@ -323,30 +325,34 @@ def test_frame_cache_is_built_once_reused_and_rebuilt_when_the_dataset_changes(t
     assert cache.stat().st_mtime_ns != built
 
 
-def test_runs_started_together_build_the_frame_cache_once(tmp_path, monkeypatch):
+def test_runs_started_together_build_each_stream_of_the_frame_cache_once(tmp_path, monkeypatch):
     root = write_synthetic_dataset(tmp_path / "g1", episodes=2, length=12)
     cfg = tiny_cfg(root, tmp_path / "out")
-    first_building, go_on, builds = threading.Event(), threading.Event(), []
+    building = {"first": threading.Event(), "second": threading.Event()}
+    go_on, builds = threading.Event(), []
 
     def slow_build(*args, **kwargs) -> None:
         builds.append(threading.current_thread().name)
-        first_building.set()
+        building[threading.current_thread().name].set()
         go_on.wait()
         build(*args, **kwargs)
 
     build = frame_cache._build
     monkeypatch.setattr(frame_cache, "_build", slow_build)
-    first = threading.Thread(target=open_data, args=(cfg, 32), kwargs={"progress": False}, name="first")
-    first.start()
-    first_building.wait()
-    second = threading.Thread(target=open_data, args=(cfg, 32), kwargs={"progress": False}, name="second")
-    second.start()
-    second.join(timeout=0.5)
-    assert second.is_alive()  # waiting for the first run's build, not building its own
+    runs = {
+        name: threading.Thread(target=open_data, args=(cfg, 32), kwargs={"progress": False}, name=name)
+        for name in building
+    }
+    runs["first"].start()
+    building["first"].wait()
+    runs["second"].start()
+    # While the first run builds its stream, the second builds another instead of waiting.
+    assert building["second"].wait(timeout=120)
     go_on.set()
-    first.join()
-    second.join()
-    assert builds == ["first"]
+    for run in runs.values():
+        run.join()
+    assert builds[:2] == ["first", "second"]  # side by side
+    assert len(builds) == len(cfg.inputs.cameras)  # each stream once
 
 
 @pytest.mark.slow
