@@ -343,6 +343,8 @@ def _train(cfg: VLACfg, held: ExitStack) -> TrainResult:
         if done % cfg.train.save_every == 0 and done < cfg.train.steps:
             save(done)
         if piece_over(cfg.train, piece_start, accelerator) and done < cfg.train.steps:
+            if cfg.train.diagnose_every > 0 and done % cfg.train.diagnose_every:
+                run_diagnostics(done)  # each piece's curve ends where its checkpoint is
             if done % cfg.train.save_every:
                 save(done)
             accelerator.end_training()

@@ -355,6 +355,20 @@ def test_runs_started_together_build_each_stream_of_the_frame_cache_once(tmp_pat
     assert len(builds) == len(cfg.inputs.cameras)  # each stream once
 
 
+def test_a_training_piece_stops_at_its_time_with_a_checkpoint_the_next_piece_resumes(dataset_root, tmp_path):
+    common = ["train.steps=4", "train.save_every=100", "train.diagnose_every=2"]
+    piece = train(tiny_cfg(dataset_root, tmp_path, [*common, "train.piece_minutes=1e-9"]))
+    assert len(piece.losses) == 1 and piece.checkpoint.name == "step_00000001"  # saved where it stopped
+    assert not (tmp_path / "last_run.json").exists()  # nothing that looks like a finished run
+    rest = train(tiny_cfg(dataset_root, tmp_path, common))
+    assert len(rest.losses) == 3 and rest.checkpoint.name == "step_00000004"
+    diagnostics = [json.loads(line) for line in (tmp_path / "diagnostics.jsonl").read_text().splitlines()]
+    assert [d["step"] for d in diagnostics] == [0, 1, 2, 4]  # the piece's last step, then every 2nd
+    assert "train_loss" not in diagnostics[0]  # the untrained model's has no training behind it
+    assert diagnostics[1]["train_loss"] == pytest.approx(piece.losses[0])
+    assert diagnostics[-1]["train_loss"] == pytest.approx(np.mean(rest.losses[-2:]))
+
+
 @pytest.mark.slow
 def test_killed_training_resumes_from_its_last_checkpoint_without_repeats(tmp_path):
     import signal
