@@ -180,6 +180,18 @@ def test_experiment_configs_compose_and_train(experiment, dataset_root, tmp_path
         paper = compose(config_name="vla", overrides=[f"+experiment={experiment}"])
     assert (paper.model.name, paper.train.batch_size, paper.train.steps) == ("paligemma2_3b", 120, 160000)
     assert paper.data.root == "outputs/data/ablation/lerobot"  # the ablation dataset, at either scale
+    with initialize_config_dir(config_dir=CONF, version_base="1.3"):  # the documented CPU scale
+        cpu = compose(
+            config_name="vla",
+            overrides=[f"+experiment={experiment}", "vla/model=cpu", "vla/train=ablation_cpu"],
+        )
+    assert (cpu.model.name, cpu.train.batch_size, cpu.train.steps, cpu.train.piece_minutes) == (
+        "cpu",
+        32,
+        30000,
+        150,
+    )
+    assert cpu.inputs == paper.inputs and cpu.data.root == paper.data.root
     result = train(cfg)
     assert len(result.losses) == 2 and np.isfinite(result.losses).all()
     model = result.model
