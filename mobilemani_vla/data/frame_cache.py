@@ -8,8 +8,8 @@ image-input ablation) share the streams they have in common, on a large dataset 
 decoding.
 A manifest records a fingerprint of the files the frames come from (videos, episode metadata); a stream whose
 fingerprint no longer matches is rebuilt. Each stream is built under a temporary name and renamed when
-complete, so an interrupted build is never used; runs started together on one dataset take turns, so the first
-builds a stream and the others read it.
+complete, so an interrupted build is never used; runs started together on one dataset build different streams
+side by side, each stream once, and read the others' streams when they are done.
 """
 
 from __future__ import annotations
