@@ -1,8 +1,9 @@
 """Scripted reference policy: follow the reward's reference actions with the privileged task state.
 
 Phases per env: approach (pre-grasp point in front of the handle, then the grasp point; palm turned onto the
-approach direction, hand at its default), close the hand, then move the grasp point toward the goal. It is the
-sanity check that physics, IK and goals are consistent, and the simplest teacher.
+approach direction, hand open), close the hand, then move the grasp point toward the goal. It is the
+sanity check that physics, IK and goals are consistent, and the simplest teacher. The open and closed hand
+postures are the robot's default and grasp postures, except where its tuning replaces joints of them.
 
 The reward's reference actions approach every handle along the grasp direction (0, 1, 0). Here the approach
 comes from the handle's free side instead: every generated grip (bar, knob, lever, tab, lid edge, faucet
@@ -59,10 +60,6 @@ class ScriptedPolicy:
         self.pregrasp_done = np.zeros(n, dtype=bool)
         # palm relative to the grip when the hand closed, in the link frame
         self.hold_offset = np.zeros((n, 3))
-        grasp = np.array([env.robot.grasp_hand_qpos[j] for j in env.robot.hand_joints])
-        self.hand_closed = normalize_to_limits(grasp, env.index.hand_limits)
-        if self.cfg.push_lids_shut and env.object.category in LID_CATEGORIES and env.skill == "close":
-            self.hand_closed = np.clip(env.default_hand_action, -1.0, 1.0)
         idx = env.index
         self.follow = self.cfg.follow_handle and env.object.kind is ObjectKind.ARTICULATED
         # Rigid objects are picked from above: the arm cannot reach the centre of mass of an object low on the
@@ -70,13 +67,22 @@ class ScriptedPolicy:
         # (both robots pick the sampled catalog objects more often so than along the reward's grasp
         # direction).
         self.from_above = env.object.kind is ObjectKind.RIGID
+        robot = env.robot
+        self.hand_open = self.hand_action({**robot.default_qpos, **self.cfg.open_hand})
+        self.hand_closed = self.hand_action(
+            {**robot.grasp_hand_qpos, **(self.cfg.pick_hand if self.from_above else {})}
+        )
+        if self.cfg.push_lids_shut and env.object.category in LID_CATEGORIES and env.skill == "close":
+            self.hand_closed = self.hand_open
         self.pregrasp_offset = self.cfg.pick_pregrasp_offset if self.from_above else self.cfg.pregrasp_offset
+        # Where the palm point stops, per kind of grip: past the grip along the approach, toward the wrist.
+        self.grasp_depth, self.grip_shift = self.cfg.grasp_depth, self.cfg.grip_shift
         if env.object.category in self.cfg.hooked_lips and env.skill == "open":
-            self.grip_shift = self.cfg.lip_hook_shift
+            self.grasp_depth, self.grip_shift = self.cfg.lip_hook_depth, self.cfg.lip_hook_shift
         elif env.object.category in LID_CATEGORIES:
             self.grip_shift = self.cfg.lid_grip_shift
-        else:
-            self.grip_shift = self.cfg.pick_grip_shift if self.from_above else self.cfg.grip_shift
+        elif self.from_above:
+            self.grasp_depth, self.grip_shift = self.cfg.pick_grasp_depth, self.cfg.pick_grip_shift
         # The reward's palm rotation (+90° about world y) turns the fingers across a vertical bar, so it
         # serves every task on one, not only the rewarded ones.
         self.palm_rotation = not self.from_above and (
@@ -95,6 +101,12 @@ class ScriptedPolicy:
         self.joint_is_hinge = (
             self.joint_id >= 0 and env.model.jnt_type[self.joint_id] == mujoco.mjtJoint.mjJNT_HINGE
         )
+
+    def hand_action(self, posture: dict[str, float]) -> np.ndarray:
+        """(nh,) hand action holding the hand joints at `posture` (joint name -> rad)."""
+        env = self.env
+        targets = np.array([posture[j] for j in env.robot.hand_joints])
+        return np.clip(normalize_to_limits(targets, env.index.hand_limits), -1.0, 1.0)
 
     def approach_direction(self) -> np.ndarray:
         """(n, 3) unit direction from the grip's free side toward the surface it is mounted on."""
@@ -171,8 +183,7 @@ class ScriptedPolicy:
 
         n = env.num_envs
         actions = np.zeros((n, env.num_actions))
-        hand_open = np.clip(env.default_hand_action, -1.0, 1.0)
-        actions[:, 6:] = hand_open
+        actions[:, 6:] = self.hand_open
         approach = self.approach_direction()
         face_grip = self.face_rotation(approach)
 
@@ -183,7 +194,7 @@ class ScriptedPolicy:
         aligned = np.sum(palm_direction(f.palm_quat) * approach, axis=1) > cfg.pregrasp_alignment
         self.pregrasp_done |= near_pregrasp & aligned & (self.phase == APPROACH)
         grasp_target = (
-            f.grasp_pos + cfg.grasp_depth * approach + self.grip_shift * quat_apply(f.palm_quat, HAND_X)
+            f.grasp_pos + self.grasp_depth * approach + self.grip_shift * quat_apply(f.palm_quat, HAND_X)
         )
         target = np.where(self.pregrasp_done[:, None], grasp_target, pregrasp)
         actions[:, 0:3] = np.clip(cfg.pos_gain * (target - f.palm_pos), -1.0, 1.0)

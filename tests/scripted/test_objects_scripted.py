@@ -2,7 +2,7 @@
 
 A (robot, category, skill) passes when every sampled object succeeds in >= 60 % of 4 seeded episodes.
 One row is a known failure, marked xfail so that the report shows it (XFAIL, or XPASS on a lucky draw): the
-XHand picks holistic/0018 in 0.375-0.75 of 8 episodes over three seeds, the row's 2/3 objects in
+XHand picks holistic/0018 in 0.5-0.625 of 8 episodes over three seeds, the row's 2/3 objects in
 docs/results/fidelity.md (its low stage, where the five-finger grasp lets round objects slip).
 """
 

@@ -45,7 +45,7 @@ from mobilemani_rl.assets.robots.builder import (
 )
 from mobilemani_rl.assets.robots.description import RobotDescription
 from mobilemani_rl.assets.robots.scripted_tuning import ScriptedPolicyCfg
-from mobilemani_rl.assets.robots.urdf import G1_URDF, Urdf, UrdfJoint, load_urdf, quat_from_rpy
+from mobilemani_rl.assets.robots.urdf import G1_URDF, Urdf, UrdfJoint, add_urdf_link, load_urdf, quat_from_rpy
 from mobilemani_rl.utils.rotations import quat_mul
 
 ARM_JOINTS = tuple(f"idx6{i}_arm_r_joint{i}" for i in range(1, 8))
@@ -87,30 +87,6 @@ DEFAULT_ARM = (-2.013, 1.139, 0.886, 1.2, -0.755, 1.183, -0.514)
 @cache
 def g1_urdf() -> Urdf:
     return load_urdf(G1_URDF)
-
-
-def _add_urdf_link(parent: mujoco.MjsBody, urdf: Urdf, joint: UrdfJoint, quat=None) -> mujoco.MjsBody:
-    """The URDF joint's child link at the joint origin, with the link's inertial if it has one."""
-    pos = np.asarray(joint.xyz, float)
-    rot = joint.quat
-    if quat is not None:  # extra rotation of the parent frame (the URDF root)
-        pos = _rotate(quat, pos)
-        rot = quat_mul(np.asarray(quat, float), rot)
-    body = add_link(parent, joint.child, pos, rot)
-    inertial = urdf.inertials.get(joint.child)
-    if inertial is not None:
-        body.explicitinertial = True
-        body.mass = inertial.mass
-        body.ipos = list(inertial.xyz)
-        body.iquat = list(quat_from_rpy(inertial.rpy))
-        body.fullinertia = list(inertial.fullinertia)
-    return body
-
-
-def _rotate(quat, vec) -> np.ndarray:
-    w, *xyz = quat
-    xyz = np.asarray(xyz, float)
-    return vec + 2 * w * np.cross(xyz, vec) + 2 * np.cross(xyz, np.cross(xyz, vec))
 
 
 def _add_urdf_cylinder(body: mujoco.MjsBody, urdf: Urdf, link: str) -> None:
@@ -159,8 +135,8 @@ def build_g1_spec() -> mujoco.MjSpec:
     lift, waist, arm_mount, right_mount = (urdf.joints[name] for name in TORSO_JOINTS)
     # Lift column (body_link1 sits 0.6485 m up at lift 0): a box from the base's top to the waist.
     add_geom(base, BOX, (0.07, 0.09, 0.19), pos=(0, 0, 0.46), collide=False, mass=5.0)
-    torso = _add_urdf_link(base, urdf, lift, quat=URDF_TO_ROOT)  # body_link1
-    chest = _add_urdf_link(torso, urdf, waist)  # body_link2: its -y points up
+    torso = add_urdf_link(base, urdf, lift, quat=URDF_TO_ROOT)  # body_link1
+    chest = add_urdf_link(torso, urdf, waist)  # body_link2: its -y points up
     # The chest box of the URDF's (commented-out) body_link2 collision.
     add_geom(
         chest, BOX, (0.1729, 0.0905, 0.156), pos=(0.008, -0.248, 0), quat=quat_from_rpy((0, 0, -math.pi / 2))
@@ -172,14 +148,14 @@ def build_g1_spec() -> mujoco.MjSpec:
     add_camera(
         head, "head_camera", pos=(0, 0.09, 0.0), forward=(0, math.cos(0.6), -math.sin(0.6)), up=(0, 0, 1)
     )
-    arm_base = _add_urdf_link(chest, urdf, arm_mount)  # arm_base_link: the base frame's orientation
+    arm_base = add_urdf_link(chest, urdf, arm_mount)  # arm_base_link: the base frame's orientation
     left = add_link(arm_base, "arm_l_base_link", (0, 0.025, 0))  # left arm: fixed, hanging at the side
     add_geom(left, CAPSULE, (0.045,), fromto=(0, 0.2, 0, 0.05, 0.2, -0.6), collide=False, mass=2.0)
-    parent = _add_urdf_link(arm_base, urdf, right_mount)  # arm_r_base_link
+    parent = add_urdf_link(arm_base, urdf, right_mount)  # arm_r_base_link
     for joint_name, link in zip(ARM_JOINTS, ARM_LINKS, strict=True):
         joint = urdf.joints[joint_name]
         assert joint.parent == parent.name and joint.child == link, joint
-        body = _add_urdf_link(parent, urdf, joint)
+        body = add_urdf_link(parent, urdf, joint)
         add_joint(body, HINGE, joint_name, joint.axis, joint.limits, armature=0.05, damping=1.0)
         _add_urdf_cylinder(body, urdf, link)
         add_position_actuator(spec, joint_name, kp=600.0, kv=30.0, force=300.0, limits=joint.limits)

@@ -6,7 +6,7 @@ imports the env.
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 
 @dataclass
@@ -28,6 +28,7 @@ class ScriptedPolicyCfg:
     grasp_depth: float = (
         0.0  # m past the grasp point (along the approach direction) where the palm point stops
     )
+    pick_grasp_depth: float = 0.0  # grasp_depth of a top-down pick
     grip_shift: float = 0.0  # m along the hand frame's +x (the XHand's wrist side) where the palm point stops
     lid_grip_shift: float = 0.0  # the same at a lid's edge
     grasp_tolerance: float = 0.012
@@ -36,6 +37,11 @@ class ScriptedPolicyCfg:
     )
     blocked_speed: float = 0.01  # m/s
     close_steps: int = 8
+    # Hand postures (joint name -> rad) that replace the robot's own for this policy only (the env's reset
+    # posture stays): open_hand over its default posture while the hand is open (approaching, pushing lids
+    # shut), pick_hand over its grasp posture (RobotDescription.grasp_hand_qpos) in a top-down pick.
+    open_hand: dict[str, float] = field(default_factory=dict)
+    pick_hand: dict[str, float] = field(default_factory=dict)
     follow_handle: bool = True  # approach from the grip's free side (else along the grasp direction)
     approach_from_below: bool = (
         True  # else a grip facing down (under a dropped door) is approached horizontally
@@ -52,6 +58,7 @@ class ScriptedPolicyCfg:
         str, ...
     ] = ()  # categories whose thin lid lip the fingertips hook from in front to open it
     lip_hook_shift: float = 0.0  # grip_shift of that hook: the palm point stays this far toward the wrist
+    lip_hook_depth: float = 0.0  # grasp_depth of that hook
     move_follow: float = 1.0  # weight of keeping the palm on the grip's free side while moving
     move_rotation: float = (
         0.0  # weight of the reward's palm-rotation target while moving (it fights the grasp)

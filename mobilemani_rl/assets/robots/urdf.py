@@ -1,5 +1,6 @@
-"""A minimal URDF reader (standard library only): joints and link inertials, enough to build a robot's
-kinematic chain with MjSpec. Meshes, visuals and collisions are ignored."""
+"""A minimal URDF reader (xml.etree): joints and link inertials, enough to build a robot's
+kinematic chain with MjSpec (add_urdf_link places a joint's child link). Meshes, visuals and collisions are
+ignored."""
 
 from __future__ import annotations
 
@@ -8,13 +9,17 @@ import xml.etree.ElementTree as ET
 from dataclasses import dataclass
 from pathlib import Path
 
+import mujoco
 import numpy as np
 
-from mobilemani_rl.utils.rotations import quat_from_matrix
+from mobilemani_rl.assets.robots.builder import add_link
+from mobilemani_rl.utils.rotations import quat_from_matrix, quat_mul
 
 # third_party/ sits at the repository root, next to the package (the project is installed editable).
 THIRD_PARTY = Path(__file__).resolve().parents[3] / "third_party"
 G1_URDF = THIRD_PARTY / "agibot_g1" / "G1_omnipicker.urdf"
+# RobotEra's STAR1 humanoid with its two XHAND1 hands; the XHand robot's hand is its right hand.
+XHAND_URDF = THIRD_PARTY / "robotera_xhand" / "l3_with_hand_fixedpin_xml.urdf"
 
 
 @dataclass(frozen=True)
@@ -127,3 +132,39 @@ def load_urdf(path: str | Path) -> Urdf:
                 )
                 break
     return Urdf(joints=joints, inertials=inertials, cylinders=cylinders)
+
+
+def rotate(quat, vec) -> np.ndarray:
+    """Rotate a 3-vector by a unit (w, x, y, z) quaternion."""
+    w, *xyz = quat
+    xyz = np.asarray(xyz, float)
+    vec = np.asarray(vec, float)
+    return vec + 2 * w * np.cross(xyz, vec) + 2 * np.cross(xyz, np.cross(xyz, vec))
+
+
+def set_urdf_inertial(body: mujoco.MjsBody, inertial: UrdfInertial, quat=None) -> None:
+    """The link's URDF inertial as the body's explicit inertial; `quat` rotates the link frame into the body
+    frame (None: the body frame is the link frame)."""
+    ipos, iquat = np.asarray(inertial.xyz, float), quat_from_rpy(inertial.rpy)
+    if quat is not None:
+        ipos, iquat = rotate(quat, ipos), quat_mul(np.asarray(quat, float), iquat)
+    body.explicitinertial = True
+    body.mass = inertial.mass
+    body.ipos = list(ipos)
+    body.iquat = list(iquat)
+    body.fullinertia = list(inertial.fullinertia)
+
+
+def add_urdf_link(parent: mujoco.MjsBody, urdf: Urdf, joint: UrdfJoint, quat=None) -> mujoco.MjsBody:
+    """The URDF joint's child link at the joint origin, with the link's inertial if it has one. `quat`: an
+    extra rotation of the parent frame (where the parent body's frame is not the URDF parent link's)."""
+    pos = np.asarray(joint.xyz, float)
+    rot = joint.quat
+    if quat is not None:
+        pos = rotate(quat, pos)
+        rot = quat_mul(np.asarray(quat, float), rot)
+    body = add_link(parent, joint.child, pos, rot)
+    inertial = urdf.inertials.get(joint.child)
+    if inertial is not None:
+        set_urdf_inertial(body, inertial)
+    return body

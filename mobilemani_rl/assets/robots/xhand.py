@@ -1,20 +1,32 @@
-"""XHand-like robot: the same mobile base and torso,
-an RM75-like 7-DoF right arm and a 12-DoF five-finger hand.
+"""XHand-like robot: the same mobile base and torso, an RM75-like 7-DoF right arm and RobotEra's 12-DoF
+five-finger XHAND1 hand.
 
-Hand frame (`xhand_right_base_link`, origin at the wrist on the back of the hand), as the reference XHand: +z
-is the palm normal (the palm direction of the reference, and the approach direction), the fingers extend along
--x from the knuckles and spread along y, the index on the +y side. Fingers curl toward +z, so that closed
-fingertips wrap over a bar held at the palm point (-0.04, 0, 0.06), 3 cm in front of the palm face. The thumb
-sits beside the index: thumb_bend swings it in the palm plane from along the fingers (0) to sideways (+y, the
-default), and its two rota joints raise it out of the palm and curl it over the palm point from the +y side.
-Joint names, limits, defaults and action order are the reference's.
+The hand follows the vendored RobotEra URDF (third_party/robotera_xhand/l3_with_hand_fixedpin_xml.urdf,
+BSD-3-Clause: the STAR1 humanoid with two XHAND1 hands): each right-hand joint's origin (position and
+orientation in its parent link), axis and limits, each link's inertial, and the phalanx lengths (the origins
+of the next joint and of the URDF's fixed fingertip frames). Collision shapes stay primitive (the URDF's
+meshes are not vendored): a capsule down each phalanx and a box for the palm.
+
+Hand frame (`xhand_right_base_link`, origin at the wrist on the forearm axis), as the reference XHand: +z is
+the palm normal (the palm direction of the reference, and the approach direction), the fingers extend along
+-x from the knuckles and spread along y, the index on the +y side; the palm point is the reference's offset
+(-0.04, 0, 0.06), 3.5 cm in front of the palm face. The URDF's hand link (right_hand_link) has the fingers
+along -z, the palm normal +y and the index at +x, so one fixed rotation (URDF_TO_HAND, +120° about (1, 1, 1))
+maps it onto this frame at the mount; every finger link below keeps the URDF's own frame (the reference's
+fingertip offsets are in those frames). Fingers curl toward +z. The thumb's base sits near the wrist on the
+index side: thumb_bend turns it about the hand's long axis from sideways in the palm plane (+y, at 0) to
+standing out of the palm (+z, near the default 1.5), and its two rota joints curl it toward the fingertips.
+Joint names, defaults and action order are the reference's; the limits are the URDF's (the reference's
+mid_joint2 reaches 1.94, the URDF's 1.92).
 """
 
 from __future__ import annotations
 
 import math
+from functools import cache
 
 import mujoco
+import numpy as np
 
 from mobilemani_rl.assets.collision import HAND_CONTACT
 from mobilemani_rl.assets.robots.builder import (
@@ -33,6 +45,15 @@ from mobilemani_rl.assets.robots.builder import (
 )
 from mobilemani_rl.assets.robots.description import RobotDescription
 from mobilemani_rl.assets.robots.scripted_tuning import ScriptedPolicyCfg
+from mobilemani_rl.assets.robots.urdf import (
+    XHAND_URDF,
+    Urdf,
+    UrdfJoint,
+    add_urdf_link,
+    load_urdf,
+    rotate,
+    set_urdf_inertial,
+)
 
 ARM_JOINTS = tuple(f"right_arm_joint{i}" for i in range(1, 8))
 ARM_LIMITS = (
@@ -55,27 +76,34 @@ DEFAULT_ARM = (0.853, 0.0, 0.0, 0.637, 0.0, -1.49, 0.0)
 
 P = "right_hand_"
 PALM_LINK = "xhand_right_base_link"
-HAND_LIMITS = {
-    "index_bend": (-0.175, 0.175),
-    "mid_joint1": (0.0, 1.92),
-    "pinky_joint1": (0.0, 1.92),
-    "ring_joint1": (0.0, 1.92),
-    "thumb_bend": (0.0, 1.83),
-    "index_joint1": (0.0, 1.92),
-    "mid_joint2": (0.0, 1.94),
-    "pinky_joint2": (0.0, 1.92),
-    "ring_joint2": (0.0, 1.92),
-    "thumb_rota_joint1": (-1.05, 1.57),
-    "index_joint2": (0.0, 1.92),
-    "thumb_rota_joint2": (-0.175, 1.83),
-}
-HAND_JOINTS = tuple(P + name for name in HAND_LIMITS)  # reference action order
-# A caging grasp of a bar at the palm point: the four fingers curl over its far side, the thumb stands up
-# beside the wrist and its distal phalanx crosses over the palm.
+URDF_HAND_LINK = "right_hand_link"
+# The reference's hand joints in its action order. The URDF names the two abduction joints *_bend_joint.
+HAND_JOINT_NAMES = (
+    "index_bend",
+    "mid_joint1",
+    "pinky_joint1",
+    "ring_joint1",
+    "thumb_bend",
+    "index_joint1",
+    "mid_joint2",
+    "pinky_joint2",
+    "ring_joint2",
+    "thumb_rota_joint1",
+    "index_joint2",
+    "thumb_rota_joint2",
+)
+HAND_JOINTS = tuple(P + name for name in HAND_JOINT_NAMES)  # reference action order
+URDF_JOINT = {P + name: P + name + ("_joint" if name.endswith("_bend") else "") for name in HAND_JOINT_NAMES}
+# A hook grasp of a bar in front of the palm, 4.5 cm from the palm point toward the knuckles: the four fingers
+# curl over its far side (their distal phalanges come back over it, about 3 cm above the palm face). The
+# thumb, turned 30° out of the palm plane, curls beside the index, clear of the cage (thumb and index share
+# the +y side of the palm). Standing further out it fails the cart pulls, flat the refrigerators' vertical
+# bars (docs/results/fidelity.md). The scripted policy picks with the thumb standing
+# (ScriptedPolicyCfg.pick_hand).
 HAND_GRASP = {
-    "thumb_bend": 1.5,
-    "thumb_rota_joint1": 1.5,
-    "thumb_rota_joint2": 1.6,
+    "thumb_bend": 0.5,
+    "thumb_rota_joint1": 0.5,
+    "thumb_rota_joint2": 1.0,
     "index_bend": 0.0,
     "index_joint1": 1.6,
     "mid_joint1": 1.6,
@@ -101,106 +129,96 @@ HAND_DEFAULT = {
     "pinky_joint2": 0.5,
 }
 
-PALM = (0.09, 0.09, 0.03)  # length (x), width (y), thickness (z): the palm face is at z = 0.03
-WRIST_X = 0.03  # the palm spans x in [WRIST_X - 0.09, WRIST_X]
-# Knuckles 2.5 cm past the palm point along -x, as a bar held at the base of the fingers: the proximal
-# phalanges clear a 1.3 cm bar there and reach 2 cm beyond the palm point along +z, so that the curled distal
-# phalanges lie over the bar's far side (a hook), yet short of a surface 3.5 cm behind the bar.
-KNUCKLE = (-0.065, 0.024)  # x, z of the finger base joints
-PHALANX = (0.056, 0.038)
-FINGER_Y = {"pinky": -0.033, "ring": -0.011, "mid": 0.011, "index": 0.033}
-# The thumb rises next to the wrist, on the +x side of a bar at the palm point, and its distal phalanx closes
-# the cage there: a bar pulled toward the wrist cannot slip out of the finger hooks.
-THUMB_BASE = (-0.008, 0.05, 0.02)
-THUMB_PHALANX = (0.045, 0.035)
-CURL_AXIS = (0, 1, 0)  # positive flexion turns a digit pointing along -x toward +z (out of the palm)
+# URDF hand link -> hand frame: fingers -z -> -x, palm normal +y -> +z, index side +x -> +y (a cyclic
+# permutation of the axes: +120° about (1, 1, 1)).
+URDF_TO_HAND = (0.5, 0.5, 0.5, 0.5)
+# Palm box: the extent of the upstream palm mesh (star1/meshes/right_hand_link.STL, not vendored) in the
+# URDF hand link's frame, (min, max) per axis: 9.4 cm wide (x), 5 cm thick (y, centred on the forearm axis),
+# 11.8 cm from the wrist to past the knuckles (z).
+PALM_EXTENT_URDF = ((-0.0502, -0.025, -0.118), (0.0437, 0.025, 0.0))
+PHALANX_RADIUS = 0.009  # about half the width of the URDF's finger meshes (1.6-1.7 cm)
+# Fingertip points in the distal links' own (URDF) frames, as the reference: 3 cm down the finger on the pad.
+FINGER_TIP = (0.0, 0.01, -0.03)
+THUMB_TIP = (0.03, 0.0, -0.01)
 # Hand link in the flange adapter (whose +z continues the forearm): fingers (-x) along the forearm, palm
-# normal (+z) along the adapter's +x, so that the wrist pitch turns the palm forward; the adapter axis runs
-# through the middle of the palm's thickness.
+# normal (+z) along the adapter's +x, so that the wrist pitch turns the palm forward; the hand's wrist (the
+# URDF hand link's origin, on the forearm axis) at the adapter's end.
 HAND_QUAT = (math.sqrt(0.5), 0.0, math.sqrt(0.5), 0.0)
-TIP_SITES = tuple(f"{P}{f}_tip" for f in ("pinky", "ring", "mid", "index", "thumb"))
+ADAPTER_LENGTH = 0.04
+DIGITS = ("pinky", "ring", "mid", "index", "thumb")
+TIP_SITES = tuple(f"{P}{f}_tip" for f in DIGITS)
 
 
-def _add_hand_hinge(body: mujoco.MjsBody, joint: str, axis: tuple[float, float, float]) -> None:
-    add_joint(body, HINGE, P + joint, axis, HAND_LIMITS[joint], armature=0.002, damping=0.05)
+@cache
+def xhand_urdf() -> Urdf:
+    return load_urdf(XHAND_URDF)
 
 
-def _add_phalanx(parent: mujoco.MjsBody, link: str, joint: str, pos, length: float) -> mujoco.MjsBody:
-    """A link pointing along its local -x, flexing about local +y."""
-    body = add_link(parent, P + link, pos)
-    _add_hand_hinge(body, joint, CURL_AXIS)
-    add_geom(
-        body,
-        CAPSULE,
-        (0.009,),
-        fromto=(0, 0, 0, -length, 0, 0),
-        rgba=DARK_RGBA,
-        contact=HAND_CONTACT,
-        mass=0.02,
-        friction=PAD_FRICTION,
-    )
-    return body
+def hand_limits() -> dict[str, tuple[float, float]]:
+    """Each hand joint's limits (our joint name -> (lower, upper)), from the URDF."""
+    joints = xhand_urdf().joints
+    return {name: joints[URDF_JOINT[name]].limits for name in HAND_JOINTS}
 
 
-def _add_digit(
-    parent: mujoco.MjsBody,
-    name: str,
-    links: tuple[str, str],
-    joints: tuple[str, str],
-    pos,
-    lengths: tuple[float, float],
-) -> None:
-    proximal = _add_phalanx(parent, links[0], joints[0], pos, lengths[0])
-    distal = _add_phalanx(proximal, links[1], joints[1], (-lengths[0], 0, 0), lengths[1])
-    # Tip point on the pad (+z side) near the end of the distal phalanx.
-    distal.add_site(name=f"{P}{name}_tip", pos=[-lengths[1] + 0.004, 0, 0.006], size=[0.006, 0, 0], group=4)
+def digit_chain(urdf: Urdf, digit: str) -> list[UrdfJoint]:
+    """The digit's URDF joints from the hand link out: its revolute joints, then the fixed fingertip frame."""
+    (joint,) = [
+        j
+        for j in urdf.joints.values()
+        if j.parent == URDF_HAND_LINK and j.child.startswith(f"{P}{digit}_") and j.type == "revolute"
+    ]
+    chain = [joint]
+    while chain[-1].type != "fixed":
+        (joint,) = [j for j in urdf.joints.values() if j.parent == chain[-1].child]
+        chain.append(joint)
+    return chain
 
 
 def _build_hand(wrist: mujoco.MjsBody) -> None:
+    urdf = xhand_urdf()
+    ours = {urdf_name: name for name, urdf_name in URDF_JOINT.items()}
     adapter = add_link(wrist, "Right_Cylinder_link", (0, 0, -0.02), GRIPPER_QUAT)
     add_geom(
-        adapter, mujoco.mjtGeom.mjGEOM_CYLINDER, (0.035, 0.02), pos=(0, 0, 0.02), rgba=DARK_RGBA, mass=0.2
+        adapter,
+        mujoco.mjtGeom.mjGEOM_CYLINDER,
+        (0.035, ADAPTER_LENGTH / 2),
+        pos=(0, 0, ADAPTER_LENGTH / 2),
+        rgba=DARK_RGBA,
+        mass=0.2,
     )
-    length, width, thickness = PALM
-    hand = add_link(adapter, PALM_LINK, (-thickness / 2, 0, 0.04 + WRIST_X), HAND_QUAT)
-    add_geom(
-        hand,
-        BOX,
-        (length / 2, width / 2, thickness / 2),
-        pos=(WRIST_X - length / 2, 0, thickness / 2),
-        contact=HAND_CONTACT,
-        mass=0.3,
-    )
+    hand = add_link(adapter, PALM_LINK, (0, 0, ADAPTER_LENGTH), HAND_QUAT)
+    set_urdf_inertial(hand, urdf.inertials[URDF_HAND_LINK], quat=URDF_TO_HAND)
+    low, high = (rotate(URDF_TO_HAND, v) for v in np.asarray(PALM_EXTENT_URDF, float))
+    low, high = np.minimum(low, high), np.maximum(low, high)
+    add_geom(hand, BOX, (high - low) / 2, pos=(high + low) / 2, contact=HAND_CONTACT)
     # Palm point: the reference offset (-0.04, 0, 0.06) in the hand frame, in front of the palm face.
     hand.add_site(name="palm", pos=[-0.04, 0, 0.06], size=[0.008, 0, 0], rgba=[1, 0, 0, 1], group=4)
-    # Wrist camera above the back of the wrist, looking out of the palm and slightly along the fingers.
-    add_camera(hand, "wrist_camera", pos=(WRIST_X + 0.01, 0.0, 0.05), forward=(-0.35, 0, 1), up=(-1, 0, 0))
-    for finger, y in FINGER_Y.items():
-        parent, base = hand, (KNUCKLE[0], y, KNUCKLE[1])
-        if finger == "index":
-            # Abduction about the palm normal, then the flexion chain.
-            parent = add_link(hand, P + "index_bend_link", base)
-            _add_hand_hinge(parent, "index_bend", (0, 0, 1))
-            add_geom(parent, mujoco.mjtGeom.mjGEOM_SPHERE, (0.01,), collide=False, mass=0.01)
-            base = (0, 0, 0)
-        links = (
-            ("index_rota_link1", "index_rota_link2")
-            if finger == "index"
-            else (f"{finger}_link1", f"{finger}_link2")
-        )
-        _add_digit(parent, finger, links, (f"{finger}_joint1", f"{finger}_joint2"), base, PHALANX)
-    # Thumb: thumb_bend swings it about the palm normal from along the fingers (-x, at 0) to sideways (+y).
-    bend = add_link(hand, P + "thumb_bend_link", THUMB_BASE)
-    _add_hand_hinge(bend, "thumb_bend", (0, 0, -1))
-    add_geom(bend, mujoco.mjtGeom.mjGEOM_SPHERE, (0.012,), collide=False, mass=0.01)
-    _add_digit(
-        bend,
-        "thumb",
-        ("thumb_rota_link1", "thumb_rota_link2"),
-        ("thumb_rota_joint1", "thumb_rota_joint2"),
-        (0, 0, 0),
-        THUMB_PHALANX,
-    )
+    # Wrist camera 2 cm above the palm face at the wrist, looking out of the palm, a little along the fingers.
+    face = high[2]
+    add_camera(hand, "wrist_camera", pos=(0.01, 0.0, face + 0.02), forward=(-0.35, 0, 1), up=(-1, 0, 0))
+    for digit in DIGITS:
+        chain = digit_chain(urdf, digit)
+        parent, quat = hand, URDF_TO_HAND
+        for i, joint in enumerate(chain[:-1]):
+            body = add_urdf_link(parent, urdf, joint, quat=quat)
+            name = ours[joint.name]
+            add_joint(body, HINGE, name, joint.axis, joint.limits, armature=0.002, damping=0.05)
+            length = np.asarray(chain[i + 1].xyz, float)  # the next joint, or the fingertip frame
+            if i < len(chain) - 3:  # an abduction link (index_bend, thumb_bend) inside the palm
+                add_geom(body, mujoco.mjtGeom.mjGEOM_SPHERE, (0.01,), collide=False)
+            else:  # a phalanx: a capsule from its joint to the next
+                add_geom(
+                    body,
+                    CAPSULE,
+                    (PHALANX_RADIUS,),
+                    fromto=(0, 0, 0, *length),
+                    rgba=DARK_RGBA,
+                    contact=HAND_CONTACT,
+                    friction=PAD_FRICTION,
+                )
+            parent, quat = body, None
+        tip = THUMB_TIP if digit == "thumb" else FINGER_TIP
+        parent.add_site(name=f"{P}{digit}_tip", pos=list(tip), size=[0.006, 0, 0], group=4)
 
 
 def build_xhand_spec() -> mujoco.MjSpec:
@@ -232,11 +250,9 @@ def build_xhand_spec() -> mujoco.MjSpec:
         spec.add_exclude(bodyname1=PALM_LINK, bodyname2=f"{P}{digit}_rota_link1")
     for joint, limits in zip(ARM_JOINTS, ARM_LIMITS, strict=True):
         add_position_actuator(spec, joint, kp=600.0, kv=30.0, force=300.0, limits=limits)
-    for joint in HAND_JOINTS:
+    for joint, limits in hand_limits().items():
         # About 10 N at a fingertip: strong enough to hold handles, too weak to crush through thin parts.
-        add_position_actuator(
-            spec, joint, kp=0.5, kv=0.06, force=0.6, limits=HAND_LIMITS[joint.removeprefix(P)]
-        )
+        add_position_actuator(spec, joint, kp=0.5, kv=0.06, force=0.6, limits=limits)
     return spec
 
 
@@ -286,13 +302,17 @@ XHAND = RobotDescription(
     scripted=ScriptedPolicyCfg(
         grasp_depth=0.012,
         close_steps=15,
-        grip_shift=0.02,
-        lid_grip_shift=-0.02,
+        grip_shift=0.05,
+        open_hand={P + "thumb_bend": 0.0},
+        pick_hand={P + "thumb_bend": 1.5, P + "thumb_rota_joint1": 0.0, P + "thumb_rota_joint2": 1.0},
         pick_finger_yaw=0.9,
-        pick_grip_shift=0.043,
+        pick_grip_shift=0.12,
+        pick_grasp_depth=0.022,
         pick_descent_while_moving=0.1,
         push_lids_shut=True,
         hooked_lips=("laptop",),
-        lip_hook_shift=0.08,
+        lip_hook_shift=0.115,
+        lip_hook_depth=0.022,
+        regrasp_distance=0.08,
     ),
 )
