@@ -24,8 +24,8 @@ STAGES = ("adapter", "actions_ik", "physics", "frames", "observations", "resets"
 class StageTimer:
     """Exclusive wall time per stage: a timed call inside another counts in its own stage only."""
 
-    def __init__(self) -> None:
-        self.totals = dict.fromkeys(STAGES, 0.0)
+    def __init__(self, stages: tuple[str, ...] = STAGES) -> None:
+        self.totals = dict.fromkeys(stages, 0.0)
         self._nested = [0.0]  # per open call: the time of the timed calls inside it
 
     def wrap(self, fn: Callable, stage: str) -> Callable:

@@ -8,6 +8,9 @@ against the raw physics limit of the same model and env count measured in the sa
 preset (default, or `-`: the preset alone), in the same run: before and after a change on the same machine
 load.
 
+Each result also gives the shares of the timed iterations spent in PPO's update, in the policy's inference
+while collecting, and in the env's step.
+
 Prints a table and JSON.
 """
 
@@ -21,10 +24,13 @@ from hydra import compose, initialize_config_dir
 
 from mobilemani_rl.assets.robots import ROBOTS
 from mobilemani_rl.envs.bench import interleaved_rates, print_report, raw_physics_replay
+from mobilemani_rl.envs.step_profile import StageTimer
 from mobilemani_rl.rl.config import RLCfg, update_precision
 from mobilemani_rl.rl.factory import build_runner
 from mobilemani_rl.utils.cli import count, entry_point
 from mobilemani_rl.utils.config_store import CONF_DIR, group_options, to_dataclass
+
+ITERATION_PARTS = ("update", "inference", "env_step")  # PPO's update, the policy's actions, the env's step
 
 
 def bench_preset(preset: str, robot: str, iterations: int, variant: str = "-") -> dict:
@@ -35,6 +41,10 @@ def bench_preset(preset: str, robot: str, iterations: int, variant: str = "-") -
     ppo = to_dataclass(cfg, RLCfg).rl.ppo
     runner = build_runner(cfg, run_dir=None)
     runner.learn(num_learning_iterations=1)  # warm-up: first rollout, normaliser, allocator
+    timer = StageTimer(ITERATION_PARTS)
+    runner.alg.update = timer.wrap(runner.alg.update, "update")
+    runner.alg.act = timer.wrap(runner.alg.act, "inference")
+    runner.env.step = timer.wrap(runner.env.step, "env_step")
     start = time.perf_counter()
     runner.learn(num_learning_iterations=iterations)
     seconds = time.perf_counter() - start
@@ -55,6 +65,8 @@ def bench_preset(preset: str, robot: str, iterations: int, variant: str = "-") -
         "samples_per_s": round(rate),
         "raw_env_steps_per_s": round(raw),
         "ppo_over_raw": round(rate / raw, 3),
+        # each part's share of the timed iterations; the rest is rsl-rl's storage, returns and logging
+        "iteration_shares": {part: round(t / seconds, 3) for part, t in timer.totals.items()},
     }
 
 
@@ -78,9 +90,9 @@ def main(argv: list[str] | None = None) -> list[dict]:
         "ppo",
         results,
         f"{'preset':6} {'robot':6} {'variant':36} {'precision':9} {'envs':>5} {'samples/s':>10} "
-        f"{'raw steps/s':>12} {'ppo/raw':>8}",
+        f"{'raw steps/s':>12} {'ppo/raw':>8} {'update':>7}",
         "{preset:6} {robot:6} {variant:36} {precision:9} {num_envs:5d} {samples_per_s:10d} "
-        "{raw_env_steps_per_s:12d} {ppo_over_raw:8.3f}",
+        "{raw_env_steps_per_s:12d} {ppo_over_raw:8.3f} {iteration_shares[update]:7.0%}",
     )
     return results
 

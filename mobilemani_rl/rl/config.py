@@ -5,6 +5,7 @@ conf/eval_rl.yaml."""
 from __future__ import annotations
 
 import copy
+import os
 from dataclasses import dataclass, field, fields
 
 from mobilemani_rl.envs.config import EnvCfg, EnvParamsCfg, TaskCfg, check_env_block
@@ -229,16 +230,29 @@ register_schema("rl_schema", RLCfg)
 register_schema("eval_rl_schema", EvalRlCfg)
 
 
+def cpu_multiplies_bf16_natively() -> bool:
+    """The CPU has bf16 dot products (AVX512-BF16 or AMX) and torch may use them: ATen dispatches to its
+    AVX-512 kernels and oneDNN is not held below its bf16 ISAs. Held to AVX2 (ATEN_CPU_CAPABILITY=avx2,
+    ONEDNN_MAX_CPU_ISA=AVX2, as on a CPU without AVX-512) bf16 runs emulated, ~10x slower than fp32
+    (docs/results/throughput.md)."""
+    import torch
+
+    hardware = torch.cpu._is_avx512_bf16_supported() or torch.cpu._is_amx_tile_supported()
+    onednn_isa = os.environ.get("ONEDNN_MAX_CPU_ISA", "ALL").upper()
+    onednn_bf16 = onednn_isa == "ALL" or any(k in onednn_isa for k in ("BF16", "AMX", "FP16", "AVX10"))
+    return hardware and onednn_bf16 and torch.backends.cpu.get_cpu_capability() == "AVX512"
+
+
 def update_precision(ppo: PpoCfg) -> str:
     """fp32 or bf16: `auto` picks bf16 only where it is fast (emulated bf16 is slower than fp32)."""
     if ppo.precision != "auto":
         return ppo.precision
-    import torch
-
     if ppo.device.startswith("cuda"):
+        import torch
+
         native = torch.cuda.is_bf16_supported(including_emulation=False)
     else:
-        native = torch.cpu._is_avx512_bf16_supported() or torch.cpu._is_amx_tile_supported()
+        native = cpu_multiplies_bf16_natively()
     return "bf16" if native else "fp32"
 
 

@@ -260,15 +260,28 @@ def test_hidden_activations_run_in_place_and_keep_the_gradient():
 
 
 @pytest.mark.parametrize(
-    ("avx512_bf16", "amx", "chosen"), [(True, False, "bf16"), (False, True, "bf16"), (False, False, "fp32")]
+    ("avx512_bf16", "amx", "aten", "onednn", "chosen"),
+    [
+        (True, False, "AVX512", None, "bf16"),
+        (False, True, "AVX512", "AVX512_CORE_AMX", "bf16"),
+        (False, False, "AVX512", None, "fp32"),
+        # bf16 hardware, but torch held to AVX2 as on a CPU without AVX-512: bf16 would run emulated
+        (True, True, "AVX2", None, "fp32"),
+        (True, False, "AVX512", "AVX2", "fp32"),
+    ],
 )
-def test_auto_precision_is_bf16_only_where_the_cpu_multiplies_bf16_natively(
-    monkeypatch, avx512_bf16, amx, chosen
+def test_auto_precision_is_bf16_only_where_torch_multiplies_bf16_natively(
+    monkeypatch, avx512_bf16, amx, aten, onednn, chosen
 ):
     from mobilemani_rl.rl.config import PpoCfg, update_precision
 
     monkeypatch.setattr(torch.cpu, "_is_avx512_bf16_supported", lambda: avx512_bf16)
     monkeypatch.setattr(torch.cpu, "_is_amx_tile_supported", lambda: amx)
+    monkeypatch.setattr(torch.backends.cpu, "get_cpu_capability", lambda: aten)
+    if onednn is None:
+        monkeypatch.delenv("ONEDNN_MAX_CPU_ISA", raising=False)
+    else:
+        monkeypatch.setenv("ONEDNN_MAX_CPU_ISA", onednn)
     assert update_precision(PpoCfg(precision="auto")) == chosen
     assert update_precision(PpoCfg(precision="fp32")) == "fp32"
 
