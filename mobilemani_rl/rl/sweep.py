@@ -8,17 +8,19 @@
 Each row trains one category-level policy on up to `objects_per_policy` of the category's train objects
 (`python -m mobilemani_rl.rl.train robot=<robot> task.object=<category> task.skill=<skill>`) and evaluates it
 on all of the category's train and test objects (`eval_episodes` seeded episodes each). Rows run one after
-another; a row whose evaluation exists is skipped, and an interrupted row resumes from its newest checkpoint
-(training's own resume), so rerunning the same command continues where it stopped; a finished row asked for
-more iterations goes on to them, and one asked for other settings stops the sweep before anything trains,
-naming them. `--skill-iterations SKILL:N` gives that skill's rows their own iteration count (holistic pick is
-still learning when 300 end); `--test-episodes N` gives a category with few test objects more episodes per
-object, so that every row's test success counts at least N episodes. After every row the sweep rewrites
-`<out>/teachers_<robot>.json` and `.md` with every row finished so far, also by earlier runs over other rows
-(per row: test and train success, the warm start's scripted success, samples, wall minutes, the command that
-recreates it; rows below the paper's skill mean with the stage they fall short in), and the paper's teacher
-tables computed from those rows' test objects (`rl_by_skill`, `rl_by_category`). Checkpoints stay under
-`--runs`. Both `--runs` and `--out` are checked for writability before the first row trains.
+another; a row whose evaluation exists is skipped, as is one that `<out>/teachers_<robot>.json` records with
+the same command while its run directory is gone (finished on another machine), and an interrupted row resumes
+from its newest checkpoint (training's own resume), so rerunning the same command continues where it stopped;
+a finished row asked for more iterations goes on to them, and one asked for other settings stops the sweep
+before anything trains, naming them. `--skill-iterations SKILL:N` gives that skill's rows their own iteration
+count (holistic pick is still learning when 300 end); `--test-episodes N` gives a category with few test
+objects more episodes per object, so that every row's test success counts at least N episodes. After every row
+the sweep rewrites `<out>/teachers_<robot>.json` and `.md` with every row finished so far, also by earlier
+runs over other rows (per row: test and train success, the warm start's scripted success, samples, wall
+minutes, the command that recreates it; rows below the paper's skill mean with the stage they fall short in),
+and the paper's teacher tables computed from those rows' test objects (`rl_by_skill`, `rl_by_category`).
+Checkpoints stay under `--runs`. Both `--runs` and `--out` are checked for writability before the first row
+trains.
 """
 
 from __future__ import annotations
@@ -268,18 +270,25 @@ def main(argv: list[str] | None = None) -> None:
     # every row, and every run directory a row resumes, checked before the first one trains
     configs = [checked_row_config(o) for o in overrides]
     checks = [check_run(cfg) for cfg in configs]
+    rows_file = args.out / f"teachers_{args.robot}.json"
+    recorded = {(r["category"], r["skill"]): r for r in (read_json(rows_file) if rows_file.is_file() else [])}
     records = []
     for k, ((category, skill), row_args, cfg, check) in enumerate(
         zip(todo, overrides, configs, checks, strict=True)
     ):
         run_dir = Path(cfg.run_dir)
         print(f"[row {k + 1}/{len(todo)}] {args.robot} {category} {skill}: {run_dir}", flush=True)
-        if check.grown or evaluation_file(run_dir) is None:
-            run_row(cfg)
         command = "python -m mobilemani_rl.rl.train " + " ".join(row_args)
-        records.append(row_record(args.robot, category, skill, run_dir, command))
+        earlier = recorded.get((category, skill))
+        if evaluation_file(run_dir) is None and earlier is not None and earlier["command"] == command:
+            # a row finished on another machine (or before its runs were deleted): its record stands
+            print(f"  kept: {rows_file} records it by the same command", flush=True)
+            records.append(earlier)
+        else:
+            if check.grown or evaluation_file(run_dir) is None:
+                run_row(cfg)
+            records.append(row_record(args.robot, category, skill, run_dir, command))
         args.out.mkdir(parents=True, exist_ok=True)
-        rows_file = args.out / f"teachers_{args.robot}.json"
         everything = merged_records(rows_file, records)
         write_json_atomic(rows_file, everything)
         (args.out / f"teachers_{args.robot}.md").write_text(rows_markdown(everything, len(rows())))

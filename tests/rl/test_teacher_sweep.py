@@ -1,6 +1,7 @@
 """The teacher sweep: every category-skill row, resumable, with per-row and paper tables on test objects."""
 
 import json
+import shutil
 
 import pytest
 
@@ -45,6 +46,21 @@ def test_a_row_trains_evaluates_on_test_objects_and_is_skipped_when_done(tmp_pat
     assert "2 of 39 rows finished" in (out / "teachers_g1.md").read_text()
     by_skill = (out / "rl_by_skill.md").read_text()
     assert "| Open | - |" not in by_skill and "| Close | - |" not in by_skill
+
+
+def test_a_row_recorded_by_the_same_command_is_kept_when_its_runs_are_gone(tmp_path):
+    """Rows finished on another machine (their checkpoints not kept) are not trained again; a row recorded by
+    another command is."""
+    runs, out = tmp_path / "runs", tmp_path / "out"
+    args = ["--runs", str(runs), "--out", str(out), *TINY, "--categories", "microwave", "--skills", "open"]
+    teacher_sweep.main(args)
+    records = json.loads((out / "teachers_g1.json").read_text())
+    shutil.rmtree(runs)
+    teacher_sweep.main(args)
+    assert not runs.exists() and json.loads((out / "teachers_g1.json").read_text()) == records
+    teacher_sweep.main([*args, "eval_episodes=2"])  # another command: trained and recorded anew
+    rerun = json.loads((out / "teachers_g1.json").read_text())
+    assert (runs / "g1" / "microwave" / "open").is_dir() and "eval_episodes=2" in rerun[0]["command"]
 
 
 def test_a_finished_row_goes_on_to_its_skills_iterations_and_refuses_other_settings(tmp_path):
