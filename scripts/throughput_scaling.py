@@ -14,16 +14,14 @@ import argparse
 import json
 from pathlib import Path
 
-import matplotlib
+from matplotlib.figure import Figure  # the object API: no pyplot backend to select, nothing global changed
 
-matplotlib.use("Agg")
-import matplotlib.pyplot as plt  # noqa: E402
-
-from mobilemani_rl.assets.robots import ROBOTS  # noqa: E402
-from mobilemani_rl.envs.bench import bench_task  # noqa: E402
-from mobilemani_rl.rl.bench import bench_preset  # noqa: E402
-from mobilemani_rl.utils.cli import count, entry_point, seconds  # noqa: E402
-from mobilemani_rl.utils.io import write_json_atomic  # noqa: E402
+from mobilemani_rl.assets.robots import ROBOTS
+from mobilemani_rl.envs.bench import bench_task
+from mobilemani_rl.rl.bench import bench_preset
+from mobilemani_rl.utils.cli import count, entry_point, seconds
+from mobilemani_rl.utils.io import write_json_atomic
+from mobilemani_rl.utils.table_format import Table
 
 
 def cpu_model() -> str:
@@ -58,23 +56,27 @@ def measure(robot: str, envs: list[int], budget: float, iterations: int) -> list
 
 
 def markdown(robot: str, rows: list[dict]) -> str:
-    lines = [
-        f"| {robot} envs | env steps/s | raw steps/s | env/raw | PPO samples/s | raw steps/s | PPO/raw "
-        "| PPO precision |",
-        "|---:|---:|---:|---:|---:|---:|---:|---|",
+    header = [f"{robot} envs", "env steps/s", "raw steps/s", "env/raw", "PPO samples/s", "raw steps/s"]
+    cells = [
+        [
+            str(r["num_envs"]),
+            f"{r['env_steps_per_s']:,}",
+            f"{r['env_raw_steps_per_s']:,}",
+            f"{r['env_over_raw']:.2f}",
+            f"{r['ppo_samples_per_s']:,}",
+            f"{r['ppo_raw_steps_per_s']:,}",
+            f"{r['ppo_over_raw']:.3f}",
+            r["ppo_precision"],
+        ]
+        for r in rows
     ]
-    for r in rows:
-        lines.append(
-            f"| {r['num_envs']} | {r['env_steps_per_s']:,} | {r['env_raw_steps_per_s']:,} "
-            f"| {r['env_over_raw']:.2f} | {r['ppo_samples_per_s']:,} | {r['ppo_raw_steps_per_s']:,} "
-            f"| {r['ppo_over_raw']:.3f} | {r['ppo_precision']} |"
-        )
-    return "\n".join(lines) + "\n"
+    return Table([*header, "PPO/raw", "PPO precision"], cells).markdown()
 
 
 def plot(robot: str, rows: list[dict], path: Path) -> None:
     envs = [r["num_envs"] for r in rows]
-    fig, (rates, ratios) = plt.subplots(1, 2, figsize=(9, 3.4))
+    fig = Figure(figsize=(9, 3.4))
+    rates, ratios = fig.subplots(1, 2)
     rates.plot(envs, [r["env_raw_steps_per_s"] for r in rows], "k--o", label="raw MuJoCo")
     rates.plot(envs, [r["env_steps_per_s"] for r in rows], "-o", label="env")
     rates.plot(envs, [r["ppo_samples_per_s"] for r in rows], "-o", label="PPO (cpu preset)")
@@ -91,7 +93,6 @@ def plot(robot: str, rows: list[dict], path: Path) -> None:
         axes.set_xlabel("envs")
     fig.tight_layout()
     fig.savefig(path, dpi=120)
-    plt.close(fig)
 
 
 @entry_point

@@ -279,13 +279,13 @@ def main(argv: list[str] | None = None) -> None:
         run_dir = Path(cfg.run_dir)
         print(f"[row {k + 1}/{len(todo)}] {args.robot} {category} {skill}: {run_dir}", flush=True)
         command = "python -m mobilemani_rl.rl.train " + " ".join(row_args)
-        earlier = recorded.get((category, skill))
-        if evaluation_file(run_dir) is None and earlier is not None and earlier["command"] == command:
+        earlier, evaluated = recorded.get((category, skill)), evaluation_file(run_dir) is not None
+        if not evaluated and earlier is not None and earlier["command"] == command:
             # a row finished on another machine (or before its runs were deleted): its record stands
             print(f"  kept: {rows_file} records it by the same command", flush=True)
             records.append(earlier)
         else:
-            if check.grown or evaluation_file(run_dir) is None:
+            if check.grown or not evaluated:
                 run_row(cfg)
             records.append(row_record(args.robot, category, skill, run_dir, command))
         args.out.mkdir(parents=True, exist_ok=True)
