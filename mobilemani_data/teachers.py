@@ -50,7 +50,7 @@ def build_teacher(cfg: TeacherCfg, combo: Combination, env_base: EnvCfg, num_env
     if cfg.kind == "scripted":
         env = MobileManiEnv(recording_env_cfg(env_base, task_of(combo), num_envs, seed))
         return Teacher(env, ScriptedPolicy(env), "scripted")
-    return _ppo_teacher(cfg, combo, env_base.physics.nthread, num_envs, seed)
+    return _ppo_teacher(cfg, combo, env_base, num_envs, seed)
 
 
 def teachable_combinations(cfg: TeacherCfg, combos: list[Combination]) -> tuple[list[Combination], list[str]]:
@@ -79,7 +79,7 @@ def teachable_combinations(cfg: TeacherCfg, combos: list[Combination]) -> tuple[
     return kept, notes
 
 
-def _ppo_teacher(cfg: TeacherCfg, combo: Combination, nthread: int, num_envs: int, seed: int) -> Teacher:
+def _ppo_teacher(cfg: TeacherCfg, combo: Combination, env_base: EnvCfg, num_envs: int, seed: int) -> Teacher:
     # Imported here: the RL stack (torch, rsl-rl) is only needed for PPO teachers.
     from mobilemani_rl.rl.teacher import (
         TeacherPolicy,
@@ -89,14 +89,16 @@ def _ppo_teacher(cfg: TeacherCfg, combo: Combination, nthread: int, num_envs: in
     )
 
     checkpoint = find_teacher_checkpoint(cfg.runs_dir, combo.robot, combo.object_id, combo.skill)
-    # The teacher acts in the env it was trained in (physics, action scales), placed in the recording scene,
-    # on this combination's object (a category run's config names the category), on as many physics threads
-    # as this collection gives it: the thread count does not change a rollout.
+    # The teacher acts in the env it was trained in (physics, action scales), placed in the recording scene
+    # (with the collection's table heights), on this combination's object (a category run's config names the
+    # category), on as many physics threads as this collection gives it: the thread count does not change a
+    # rollout.
     run_cfg = run_config(checkpoint)
     run_cfg.task.object = combo.object_id
     run_cfg.task.scene = combo.scene
-    run_cfg.env.physics.nthread = nthread
+    run_cfg.env.physics.nthread = env_base.physics.nthread
     run_cfg.env.reset.recording = True
+    run_cfg.env.reset.table_height_jitter = env_base.reset.table_height_jitter
     run_cfg.logger = "tensorboard"
     env, actor = load_teacher(checkpoint, num_envs=num_envs, cfg=run_cfg)
     env.cfg.seed = seed

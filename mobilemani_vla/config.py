@@ -113,6 +113,10 @@ class TrainCfg:
     lr: float = 3e-4
     lr_schedule: str = "cosine"  # a diffusers.optimization schedule name: constant, cosine, linear, ...
     warmup_steps: int = 200
+    # Steps at the start with the backbone's learning rate at zero, its rate then warmed up over warmup_steps:
+    # the action head first learns to read the untrained backbone's features (linear probing before
+    # fine-tuning), so that the head's random start does not push every frame's feature to one value.
+    backbone_hold_steps: int = 0
     weight_decay: float = 0.01
     # State quantities the cognition feature is also trained to regress (a linear read-out, MSE in normalised
     # units, weighted by cognition_target_weight): e.g. [grasp_point], where the object is, which only the
@@ -190,6 +194,7 @@ class VLACfg:
                 ("train.lr", t.lr, t.lr > 0, "above 0"),
                 ("train.piece_minutes", t.piece_minutes, t.piece_minutes >= 0, ">= 0; 0: no limit"),
                 ("train.warmup_steps", t.warmup_steps, t.warmup_steps >= 0, ">= 0"),
+                ("train.backbone_hold_steps", t.backbone_hold_steps, t.backbone_hold_steps >= 0, ">= 0"),
                 ("train.ema_decay", t.ema_decay, 0 <= t.ema_decay < 1, "in [0, 1); 0 keeps no average"),
                 ("train.grad_clip", t.grad_clip, t.grad_clip >= 0, ">= 0; 0 clips nothing"),
                 (

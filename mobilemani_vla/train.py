@@ -29,6 +29,7 @@ from diffusers.optimization import get_scheduler
 from omegaconf import DictConfig
 from torch import nn
 from torch.distributed.fsdp import ShardingStrategy
+from torch.optim.lr_scheduler import LambdaLR
 from torch.optim.swa_utils import AveragedModel
 from torch.utils.data import DataLoader
 from tqdm import tqdm
@@ -164,8 +165,30 @@ def ema_update(decay: float):
 
 
 def adamw(model: nn.Module, cfg: TrainCfg) -> torch.optim.AdamW:
-    """AdamW with its fused kernel: a per-tensor loop costs a small model's CPU step more than the update."""
-    return torch.optim.AdamW(model.parameters(), lr=cfg.lr, weight_decay=cfg.weight_decay, fused=True)
+    """AdamW with its fused kernel (a per-tensor loop costs a small model's CPU step more than the update),
+    over two parameter groups: the backbone's, then the rest (the action head, the state encoder)."""
+    backbone = list(model.backbone.parameters()) if hasattr(model, "backbone") else []
+    held = {id(p) for p in backbone}
+    rest = [p for p in model.parameters() if id(p) not in held]
+    groups = [{"params": params} for params in (backbone, rest) if params]
+    return torch.optim.AdamW(groups, lr=cfg.lr, weight_decay=cfg.weight_decay, fused=True)
+
+
+def lr_schedule(optimizer: torch.optim.AdamW, cfg: TrainCfg) -> LambdaLR:
+    """train.lr_schedule for every group; with train.backbone_hold_steps, the backbone's group (the first of
+    two) is at zero for those steps, then warms up linearly over train.warmup_steps."""
+    schedule = get_scheduler(
+        cfg.lr_schedule, optimizer, num_warmup_steps=cfg.warmup_steps, num_training_steps=cfg.steps
+    )
+    if cfg.backbone_hold_steps == 0 or len(optimizer.param_groups) < 2:
+        return schedule
+    base = schedule.lr_lambdas[0]
+
+    def backbone(step: int) -> float:
+        released = step - cfg.backbone_hold_steps
+        return base(step) * min(1.0, max(0.0, released / max(cfg.warmup_steps, 1)))
+
+    return LambdaLR(optimizer, [backbone, base])
 
 
 def piece_over(cfg: TrainCfg, start: float, accelerator: Accelerator) -> bool:
@@ -230,12 +253,7 @@ def _train(cfg: VLACfg, held: ExitStack) -> TrainResult:
         drop_last=len(data.train) >= cfg.train.batch_size,
     )
     optimizer = adamw(model, cfg.train)
-    schedule = get_scheduler(
-        cfg.train.lr_schedule,
-        optimizer,
-        num_warmup_steps=cfg.train.warmup_steps,
-        num_training_steps=cfg.train.steps,
-    )
+    schedule = lr_schedule(optimizer, cfg.train)
     model, optimizer, loader, schedule = accelerator.prepare(model, optimizer, loader, schedule)
     ema = (
         AveragedModel(accelerator.unwrap_model(model), multi_avg_fn=ema_update(cfg.train.ema_decay))
@@ -333,7 +351,7 @@ def _train(cfg: VLACfg, held: ExitStack) -> TrainResult:
             mean = accelerator.reduce(loss.detach(), reduction="mean").item()
             rate = cfg.train.log_every * cfg.train.batch_size / (time.perf_counter() - clock)
             accelerator.log(
-                {"train/loss": mean, "train/lr": schedule.get_last_lr()[0], "train/samples_per_s": rate},
+                {"train/loss": mean, "train/lr": schedule.get_last_lr()[-1], "train/samples_per_s": rate},
                 step=done,
             )
             bar.set_postfix(loss=f"{mean:.4f}", samples_per_s=f"{rate:.1f}")

@@ -7,9 +7,10 @@ Each `seed_<N>/` folder holds a run's teacher evaluation (`teacher_eval_256.json
 (`eval_teacher.jsonl`, `eval_vla.jsonl`, `eval_vla_seed1.jsonl`) and the VLA's held-out diagnostics
 (`vla_diagnostics.jsonl`); the first table gives the VLA's 60 episodes with their Wilson interval and the
 spread. Each `seed_<N>/variants/<name>/` folder holds the VLA records of one more VLA trained on that run's
-dataset with other settings (its `overrides.txt`); the next table lists them beside the run's own VLA. A
-`scripted/variants/<name>/` folder holds the same records of a VLA trained on the scripted teacher's dataset
-(`scripted/dataset_stats.json`), listed in a table of its own.
+dataset with other settings (its `overrides.txt`); the next table lists them beside the run's own VLA. Any
+other `<dataset>/variants/<name>/` folder holds the same records of a VLA trained on another dataset, which
+`<dataset>/dataset.txt` names and `<dataset>/dataset_stats.json` describes; each such dataset gets a table of
+its own.
 """
 
 from __future__ import annotations
@@ -75,10 +76,9 @@ def main() -> None:
             print_table(
                 "| VLA settings " + VLA_HEADER, [["the demo's", *vla_cells(run)[0]], *variant_rows(variants)]
             )
-    scripted = sorted((args.folder / "scripted" / "variants").glob("*"))
-    if scripted:
-        print("\nVLAs trained on the scripted teacher's dataset:\n")
-        print_table("| VLA settings " + VLA_HEADER, variant_rows(scripted))
+    for dataset in sorted(d for d in args.folder.iterdir() if (d / "dataset.txt").is_file()):
+        print(f"\nVLAs trained on {(dataset / 'dataset.txt').read_text().strip()}:\n")
+        print_table("| VLA settings " + VLA_HEADER, variant_rows(sorted((dataset / "variants").glob("*"))))
 
 
 def variant_rows(variants: list[Path]) -> list[list[str]]:

@@ -1,6 +1,7 @@
 """Where a closed-loop evaluation's episodes stop: rerun chosen rooms of a finished evaluation with the same
 seeds and print, per episode, success, the closest the grasp point came to its goal and the closest palm
-approach; with `--teacher`, also how far the executed actions were from what a PPO teacher would do in the
+approach, split into its vertical part (palm minus grasp point, negative: below) and its horizontal one; with
+`--teacher`, also how far the executed actions were from what a PPO teacher would do in the
 same states (mean |executed - teacher| per action dimension and step, the teacher's action clipped as the
 env clips it).
 
@@ -62,6 +63,7 @@ def closest_in_first_batch(cfg: EvalCfg, policy: EvalPolicy, combo: Combination)
     env, seed = block_env(cfg, combo, 0)
     goal = np.full(env.num_envs, np.inf)
     hand = np.full(env.num_envs, np.inf)
+    palm_offset = np.zeros((env.num_envs, 3))  # palm minus grasp point at the closest approach
     gap = np.zeros((env.num_envs, env.num_actions))
     steps = np.zeros(env.num_envs)
     live = np.ones(env.num_envs, dtype=bool)
@@ -70,7 +72,9 @@ def closest_in_first_batch(cfg: EvalCfg, policy: EvalPolicy, combo: Combination)
         # A finished env has been reset already: only envs still in their first episode count.
         reached = env.task_distances
         goal[live] = np.minimum(goal[live], reached.goal[live])
-        hand[live] = np.minimum(hand[live], reached.hand[live])
+        closer = live & (reached.hand < hand)
+        hand[closer] = reached.hand[closer]
+        palm_offset[closer] = env.frames.palm_pos[closer] - env.frames.grasp_pos[closer]
         live[result.done_ids] = False
         if isinstance(policy, AskingTheTeacher):  # the action each live env executed this step
             gap[live] += np.abs(env.last_action[live] - policy.asked[live])
@@ -82,6 +86,8 @@ def closest_in_first_batch(cfg: EvalCfg, policy: EvalPolicy, combo: Combination)
         "success": stats.success.astype(int).tolist(),
         "closest_goal_cm": np.round(goal * 100, 1).tolist(),
         "closest_palm_cm": np.round(hand * 100, 1).tolist(),
+        "closest_palm_vertical_cm": np.round(palm_offset[:, 2] * 100, 1).tolist(),
+        "closest_palm_horizontal_cm": np.round(np.linalg.norm(palm_offset[:, :2], axis=1) * 100, 1).tolist(),
     }
     if isinstance(policy, AskingTheTeacher):
         out["teacher_gap_per_dim"] = np.round(gap / np.maximum(steps, 1)[:, None], 2).tolist()

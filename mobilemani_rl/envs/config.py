@@ -77,6 +77,11 @@ class ResetCfg:
     recording: bool = False
     room_jitter_x: list[float] = field(default_factory=lambda: [-0.1, 0.1])
     room_jitter_y: list[float] = field(default_factory=lambda: [-0.05, 0.05])
+    # Tabletop rooms: the table (and the object on it) raised or lowered per episode by U(-x, x) m from the
+    # room's own height. With 16 train rooms each table height otherwise comes with one room's look, and a
+    # policy learning from the pictures can take the height from the room instead of seeing it. 0: the room's
+    # height, as the reference records.
+    table_height_jitter: float = 0.0
 
 
 @dataclass
@@ -161,6 +166,7 @@ class EnvParamsCfg:
             "env.reset.random_height": reset.random_height,
             "env.reset.stage_shift": reset.stage_shift,
             "env.reset.pick_yaw_deg": reset.pick_yaw_deg,
+            "env.reset.table_height_jitter": reset.table_height_jitter,
         }
         ranges = {
             "env.reset.root_x_range": reset.root_x_range,

@@ -14,7 +14,13 @@ import numpy as np
 
 from mobilemani_rl.assets.objects import ObjectKind, check_skill, get_object
 from mobilemani_rl.assets.robots import get_robot
-from mobilemani_rl.assets.scenes import ROOM_BODY, RoomJitterCfg, get_placement, sample_room_offsets
+from mobilemani_rl.assets.scenes import (
+    ROOM_BODY,
+    TABLE_BODY,
+    RoomJitterCfg,
+    get_placement,
+    sample_room_offsets,
+)
 from mobilemani_rl.envs.actions import checked_actions
 from mobilemani_rl.envs.config import EnvCfg
 from mobilemani_rl.envs.frames import FrameReader, Frames, SimView
@@ -30,6 +36,12 @@ from mobilemani_rl.utils.rotations import quat_from_euler, quat_mul
 # The palm-rotation reach term is on only for these (category, skill) pairs, as in the reference.
 PALM_ROTATION_TASKS = {("holistic", "pick"), ("refrigerator", "open")}
 PALM_ROTATION_PRE = quat_from_euler(np.array([0.0, np.pi / 2, 0.0]))  # +90° about world y
+
+
+def mocap_id(model: mujoco.MjModel, body: str) -> int:
+    """The named body's mocap index, -1 where the model has no such body (a scene without a room or table)."""
+    found = mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_BODY, body)
+    return -1 if found < 0 else int(model.body_mocapid[found])
 
 
 @dataclass
@@ -59,9 +71,7 @@ class MobileManiEnv:
         self.placement = get_placement(cfg.task.scene) if cfg.task.scene else None
         check_start_clearance(self.robot, self.object, cfg.reset, self.placement)
         self.model, self.index = build_scene(self.robot, self.object, cfg.physics, cfg.reset, self.placement)
-        self.room_mocap = (
-            int(self.model.body_mocapid[self.model.body(ROOM_BODY).id]) if self.placement else -1
-        )
+        self.room_mocap, self.table_mocap = (mocap_id(self.model, body) for body in (ROOM_BODY, TABLE_BODY))
         self.num_envs = cfg.num_envs
         self.num_actions = self.robot.action_dim
         self.max_episode_length = cfg.episode_length
@@ -135,8 +145,13 @@ class MobileManiEnv:
         if self.room_mocap >= 0:
             rcfg = self.cfg.reset
             jitter = RoomJitterCfg(tuple(rcfg.room_jitter_x), tuple(rcfg.room_jitter_y))
-            room = self.model.body_pos[self.model.body(ROOM_BODY).id]
-            v.mocap_pos[ids, self.room_mocap] = room + sample_room_offsets(self.rng, len(ids), jitter)
+            offsets = sample_room_offsets(self.rng, len(ids), jitter)
+            v.mocap_pos[ids, self.room_mocap] = self.model.body_pos[self.model.body(ROOM_BODY).id] + offsets
+            if self.table_mocap >= 0:  # the table goes with the room, at the episode's height
+                offsets[:, 2] += start.table_offset
+                v.mocap_pos[ids, self.table_mocap] = (
+                    self.model.body_pos[self.model.body(TABLE_BODY).id] + offsets
+                )
         self.batch.forward(ids, stage=mujoco.mjtStage.mjSTAGE_VEL)
         fresh = self.frame_reader.read(ids)
         self.goal_pos[ids] = start.goal_pos

@@ -7,7 +7,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from mobilemani_rl.assets.objects import ObjectKind, ObjectModel
+from mobilemani_rl.assets.objects import ObjectKind, ObjectModel, Place
 from mobilemani_rl.assets.objects.model import CART_TRAVEL, PICK_LIFT
 from mobilemani_rl.assets.robots import RobotDescription
 from mobilemani_rl.assets.robots.builder import BASE_RADIUS
@@ -33,6 +33,7 @@ class EpisodeStart:
     joint_value: np.ndarray  # (n,) operated joint, zeros without one
     goal_pos: np.ndarray  # (n, 3)
     goal_scale: np.ndarray  # (n,) D0
+    table_offset: np.ndarray  # (n,) the table's height minus its room's (env.reset.table_height_jitter)
 
 
 def sample_episode_start(
@@ -48,7 +49,10 @@ def sample_episode_start(
     plain = _plain(cfg, placement)
     random_height = params.random_height and (plain or obj.category == "window")
     lift = rng.uniform(0.0, cfg.random_height, n) if random_height else np.zeros(n)
-    top = stage_top(obj, placement) + lift
+    table_offset = np.zeros(n)
+    if placement is not None and placement.setting is Place.TABLETOP and cfg.table_height_jitter > 0:
+        table_offset = rng.uniform(-cfg.table_height_jitter, cfg.table_height_jitter, n)
+    top = stage_top(obj, placement) + lift + table_offset
     stage_shift = cfg.stage_shift if plain else 0.0
     # The object's grasp point (at its initial joint value) sits over the env origin, as the reference.
     object_pos = object_position(obj, top, cfg.pick_y_offset)
@@ -76,7 +80,15 @@ def sample_episode_start(
     yaw += np.radians(rng.uniform(-cfg.yaw_jitter_deg, cfg.yaw_jitter_deg, n))
     root_pos = np.concatenate((root_xy, np.full((n, 1), ROBOT_ROOT_Z)), axis=1)
     return EpisodeStart(
-        root_pos, quat_from_yaw(yaw), stage_pos, object_pos, object_quat, joint_value, goal_pos, goal_scale
+        root_pos,
+        quat_from_yaw(yaw),
+        stage_pos,
+        object_pos,
+        object_quat,
+        joint_value,
+        goal_pos,
+        goal_scale,
+        table_offset,
     )
 
 

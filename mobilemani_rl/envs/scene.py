@@ -186,6 +186,6 @@ def build_scene(
     of where `reset` puts the object."""
     spec = build_scene_spec(robot, obj, physics)
     if placement is not None:
-        add_scene(spec, placement, obj, reset.pick_y_offset)
+        add_scene(spec, placement, obj, reset.pick_y_offset, reset.table_height_jitter)
     model = spec.compile()
     return model, index_scene(model, robot, obj)

@@ -3,7 +3,8 @@
 A policy trained on the 16 train rooms' fixed colours learns their backgrounds as well as the task; in the 4
 unseen test rooms it then misplaces its hand (docs/results/vla.md). Repainting the room for every exported
 episode shows it many more backgrounds with the same geometry. Only the room changes: every colour of the
-`scene/room` subtree (materials, and geoms without one) is blended toward a random colour by a random amount
+`scene/room` subtree and of a table with a body of its own, `scene/table` (materials, and geoms without one),
+is blended toward a random colour by a random amount
 up to `strength`, and the room's lights are dimmed or brightened together by up to `strength / 2`. The robot
 and the object keep their colours; nothing physical changes.
 """
@@ -13,7 +14,7 @@ from __future__ import annotations
 import mujoco
 import numpy as np
 
-from mobilemani_rl.assets.scenes.compose import ROOM_BODY
+from mobilemani_rl.assets.scenes.compose import ROOM_BODY, TABLE_BODY
 from mobilemani_rl.render.segmentation import subtree
 
 
@@ -25,6 +26,9 @@ class RoomRepainter:
         if room < 0:
             raise ValueError(f"the model has no {ROOM_BODY!r} body to repaint (a scene without a room)")
         inside = subtree(model, room)
+        table = mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_BODY, TABLE_BODY)
+        if table >= 0:
+            inside |= subtree(model, table)
         room_geoms = np.flatnonzero(inside[model.geom_bodyid])
         materials = model.geom_matid[room_geoms]
         self.model = model

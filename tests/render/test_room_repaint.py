@@ -8,11 +8,12 @@ import pytest
 
 from mobilemani_rl.assets.objects import get_object
 from mobilemani_rl.assets.robots import get_robot
-from mobilemani_rl.assets.scenes import get_placement
+from mobilemani_rl.assets.scenes import TABLE_BODY, get_placement
 from mobilemani_rl.envs.config import PhysicsCfg, ResetCfg
 from mobilemani_rl.envs.scene import build_scene
 from mobilemani_rl.render import CameraRenderCfg, CameraRenderer
 from mobilemani_rl.render.appearance import RoomRepainter
+from mobilemani_rl.render.segmentation import subtree
 
 
 @pytest.fixture(scope="module")
@@ -79,3 +80,22 @@ def test_repainted_room_renders_differently(model: mujoco.MjModel) -> None:
     diff = np.abs(built.rgb.astype(int) - repainted.rgb.astype(int)).max(axis=2)
     assert diff[background].mean() > 5  # the room looks different
     np.testing.assert_array_equal(built.depth, repainted.depth)  # geometry unchanged
+
+
+def test_a_table_of_its_own_is_repainted_with_the_room() -> None:
+    """With a per-episode table height the table is a body of its own; its colours still change with the
+    room's, so that they do not name the room either."""
+    built, _ = build_scene(
+        get_robot("g1"),
+        get_object("test/box"),
+        PhysicsCfg(),
+        ResetCfg(table_height_jitter=0.1),
+        get_placement("tabletop/00"),
+    )
+    table = subtree(built, built.body(TABLE_BODY).id)
+    painter = RoomRepainter(built)
+    table_geoms = np.flatnonzero(table[built.geom_bodyid])
+    painted = set(painter.geoms) | {
+        g for g in table_geoms if built.geom_matid[g] >= 0 and built.geom_matid[g] in set(painter.materials)
+    }
+    assert len(table_geoms) > 0 and set(table_geoms) <= painted

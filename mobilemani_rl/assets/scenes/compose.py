@@ -2,7 +2,9 @@
 
 The whole room is one mocap body, `scene/room`, so the env can jitter it per reset (as the reference does:
 x ~ U(-0.1, 0.1), y ~ U(-0.05, 0.05), no yaw) with
-`mocap_pos[env, room_mocap] = model.body_pos[room] + offset` (see `sample_room_offsets`). Room geoms never
+`mocap_pos[env, room_mocap] = model.body_pos[room] + offset` (see `sample_room_offsets`). A tabletop room
+whose table height changes per episode (`table_jitter`) has its table in a second mocap body, `scene/table`,
+which the env moves with the room plus the episode's height offset. Room geoms never
 collide; the plain scene's stage and ground stay physical but move to a geom group the renderer does not
 draw. Room frame: x as the world, y = 0 at the back wall's inner face.
 """
@@ -33,6 +35,7 @@ from mobilemani_rl.assets.scenes.styles import INDOOR_STYLES, make_palette
 from mobilemani_rl.assets.scenes.textures import Materials
 
 ROOM_BODY = "scene/room"
+TABLE_BODY = "scene/table"
 HIDDEN_GROUP = 3  # MjvOption draws geom groups 0-2 by default
 PLAIN_SCENE_GEOMS = ("ground", "stage")
 WALL_GAP = 0.06  # object back -> wall; larger than the ±0.05 m y jitter so they never intersect
@@ -53,9 +56,17 @@ def sample_room_offsets(rng: np.random.Generator, n: int, cfg: RoomJitterCfg | N
     return np.stack((rng.uniform(*cfg.x, n), rng.uniform(*cfg.y, n), np.zeros(n)), axis=1)
 
 
-def add_scene(spec: mujoco.MjSpec, placement: Placement, obj: ObjectModel, pick_y_offset: float) -> None:
-    """Add the placement's room (or parking lot) around the object's slot, in place; `pick_y_offset` is the
-    running reset config's, so the room keeps clear of where the env puts rigid objects."""
+def add_scene(
+    spec: mujoco.MjSpec,
+    placement: Placement,
+    obj: ObjectModel,
+    pick_y_offset: float,
+    table_jitter: float = 0.0,
+) -> None:
+    """Add the placement's room (or parking lot) around the object's slot, in place. `pick_y_offset` is the
+    running reset config's, so the room keeps clear of where the env puts rigid objects; `table_jitter` its
+    per-episode table height spread (a tabletop table then gets a body of its own whose legs reach the floor
+    from as high as it may go)."""
     check_setting(obj, placement)
     for name in PLAIN_SCENE_GEOMS:
         spec.geom(name).group = HIDDEN_GROUP
@@ -72,7 +83,7 @@ def add_scene(spec: mujoco.MjSpec, placement: Placement, obj: ObjectModel, pick_
         keep_out = _keep_out(footprint, anchor, corridor_half, half)
         build_parking_lot(body, canvas, materials, rng, half, keep_out)
         return
-    _build_indoor(spec, placement, obj, footprint, rng, materials, half, corridor_half)
+    _build_indoor(spec, placement, obj, footprint, rng, materials, half, corridor_half, table_jitter)
 
 
 def _build_indoor(
@@ -84,6 +95,7 @@ def _build_indoor(
     materials: Materials,
     half: float,
     corridor_half: float,
+    table_jitter: float,
 ) -> None:
     style = INDOOR_STYLES[placement.style]
     palette = make_palette(style, materials, rng)
@@ -127,8 +139,20 @@ def _build_indoor(
     keep_out = _keep_out(footprint, anchor, corridor_half, half)
     if table is not None:
         table_hx, table_hy, table_y = table
+        table_canvas = canvas
+        if table_jitter > 0:
+            table_canvas = Canvas(
+                spec.worldbody.add_body(name=TABLE_BODY, mocap=True, pos=[0.0, anchor, 0.0])
+            )
         support_table(
-            canvas.item(0.0, table_y), table_hx, table_hy, placement.support_height, style.name, palette, rng
+            table_canvas.item(0.0, table_y),
+            table_hx,
+            table_hy,
+            placement.support_height,
+            style.name,
+            palette,
+            rng,
+            below_floor=table_jitter,
         )
         keep_out.append(Rect(-table_hx - 0.1, table_y - table_hy - 0.1, table_hx + 0.1, 0.2))
     walls = [

@@ -260,10 +260,21 @@ FURNITURE: dict[str, Furniture] = {
 
 
 def support_table(
-    c: Canvas, hx: float, hy: float, height: float, style: str, p: Palette, rng: np.random.Generator
+    c: Canvas,
+    hx: float,
+    hy: float,
+    height: float,
+    style: str,
+    p: Palette,
+    rng: np.random.Generator,
+    below_floor: float = 0.0,
 ) -> None:
-    """The visible table under a tabletop object, top surface at `height` (the invisible stage's top)."""
-    if style == "kitchen" and height > 0.55:  # a counter: solid cabinets under a worktop
+    """The visible table under a tabletop object, top surface at `height` (the invisible stage's top); its
+    legs reach `below_floor` m under the floor, so that it still stands on the floor when raised that much."""
+    counter = style == "kitchen" and height > 0.55  # chosen by the room's height, however far the legs go
+    if below_floor > 0:
+        c, height = c.item(0.0, 0.0, z=-below_floor), height + below_floor
+    if counter:  # solid cabinets under a worktop
         c.box((0, 0, height - 0.02), (hx, hy, 0.02), p.dark_wood if rng.random() < 0.5 else p.white)
         c.box((0, 0.03, (height - 0.04) / 2), (hx - 0.02, hy - 0.03, (height - 0.04) / 2), p.wood)
         for x in np.arange(-hx + 0.25, hx - 0.1, 0.5):
