@@ -165,22 +165,24 @@ def ema_update(decay: float):
 
 
 def adamw(model: nn.Module, cfg: TrainCfg) -> torch.optim.AdamW:
-    """AdamW with its fused kernel (a per-tensor loop costs a small model's CPU step more than the update),
-    over two parameter groups: the backbone's, then the rest (the action head, the state encoder)."""
-    backbone = list(model.backbone.parameters()) if hasattr(model, "backbone") else []
-    held = {id(p) for p in backbone}
-    rest = [p for p in model.parameters() if id(p) not in held]
-    groups = [{"params": params} for params in (backbone, rest) if params]
-    return torch.optim.AdamW(groups, lr=cfg.lr, weight_decay=cfg.weight_decay, fused=True)
+    """AdamW with its fused kernel (a per-tensor loop costs a small model's CPU step more than the update).
+    With train.backbone_hold_steps, two parameter groups: the backbone's, then the rest (the action head, the
+    state encoder); else one, which FSDP's flattened parameters and earlier runs' optimiser states expect."""
+    params = list(model.parameters())
+    if cfg.backbone_hold_steps > 0:
+        backbone = list(model.backbone.parameters())
+        held = {id(p) for p in backbone}
+        params = [{"params": backbone}, {"params": [p for p in params if id(p) not in held]}]
+    return torch.optim.AdamW(params, lr=cfg.lr, weight_decay=cfg.weight_decay, fused=True)
 
 
 def lr_schedule(optimizer: torch.optim.AdamW, cfg: TrainCfg) -> LambdaLR:
-    """train.lr_schedule for every group; with train.backbone_hold_steps, the backbone's group (the first of
-    two) is at zero for those steps, then warms up linearly over train.warmup_steps."""
+    """train.lr_schedule; with train.backbone_hold_steps, the backbone's group (the first of `adamw`'s two) is
+    at zero for those steps, then warms up linearly over train.warmup_steps."""
     schedule = get_scheduler(
         cfg.lr_schedule, optimizer, num_warmup_steps=cfg.warmup_steps, num_training_steps=cfg.steps
     )
-    if cfg.backbone_hold_steps == 0 or len(optimizer.param_groups) < 2:
+    if cfg.backbone_hold_steps == 0:
         return schedule
     base = schedule.lr_lambdas[0]
 
