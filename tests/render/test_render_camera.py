@@ -53,8 +53,8 @@ def test_depth_conversions():
 def tabletop_env(request):
     """test/box on a table in a realistic room, plus a probe camera straight above the object."""
 
-    def add_scene_and_probe(spec, placement, obj, pick_y_offset):
-        add_scene(spec, placement, obj, pick_y_offset)
+    def add_scene_and_probe(spec, placement, obj, pick_y_offset, table_jitter=0.0):
+        add_scene(spec, placement, obj, pick_y_offset, table_jitter)
         top = placement.support_height + 1.2
         spec.worldbody.add_camera(name="probe", pos=[0, 0.1, top], fovy=25.0)  # looks down -z
 
