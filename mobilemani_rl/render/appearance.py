@@ -4,9 +4,9 @@ A policy trained on the 16 train rooms' fixed colours learns their backgrounds a
 unseen test rooms it then misplaces its hand (docs/results/vla.md). Repainting the room for every exported
 episode shows it many more backgrounds with the same geometry. Only the room changes: every colour of the
 `scene/room` subtree and of a table with a body of its own, `scene/table` (materials, and geoms without one),
-is blended toward a random colour by a random amount
-up to `strength`, and the room's lights are dimmed or brightened together by up to `strength / 2`. The robot
-and the object keep their colours; nothing physical changes.
+is blended toward a random colour by a random amount up to `strength`, and the room's lights are dimmed or
+brightened together by up to `strength / 2`. The robot and the object keep their colours; nothing physical
+changes.
 """
 
 from __future__ import annotations
