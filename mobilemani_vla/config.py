@@ -79,6 +79,10 @@ class InputsCfg:
     # Fraction of training samples whose state feature is withheld: the state then cannot stand in for what
     # only the cameras show (where the object is), so the image features must carry it.
     state_dropout: float = 0.0
+    # Standard deviation (m, each axis) of an error on the grasp point input, as a detector's estimate of
+    # where the object is would be off: one draw per training sample, one world-frame offset per episode
+    # in evaluation. The state then brings the hand near the object; only the cameras bring it onto it.
+    grasp_point_noise: float = 0.0
 
 
 @dataclass
@@ -202,6 +206,13 @@ class VLACfg:
                     self.inputs.state_dropout,
                     0 <= self.inputs.state_dropout < 1,
                     "in [0, 1)",
+                ),
+                (
+                    "inputs.grasp_point_noise",
+                    self.inputs.grasp_point_noise,
+                    self.inputs.grasp_point_noise >= 0
+                    and (self.inputs.grasp_point_noise == 0 or "grasp_point" in self.inputs.states),
+                    ">= 0, and 0 unless inputs.states holds grasp_point",
                 ),
                 ("diffusion.cfg_dropout", d.cfg_dropout, 0 <= d.cfg_dropout < 1, "in [0, 1); 0: no guidance"),
                 ("diffusion.ddim_steps", d.ddim_steps, d.ddim_steps <= d.train_timesteps, "<= its timesteps"),

@@ -102,6 +102,7 @@ def vla_section(demo: Path, out: Path) -> list[str]:
         "## 3. MobileManiVLA (cpu recipe, CPU)",
         "",
         f"- {len(losses)} training steps; loss {start:.3f} -> {end:.3f}",
+        *inputs_lines(demo),
     ]
     diagnostics = demo / "vla" / "diagnostics.jsonl"
     if diagnostics.is_file():
@@ -120,6 +121,22 @@ def vla_section(demo: Path, out: Path) -> list[str]:
                 value = last[f"noise_mse/{key}"]
                 lines.append(f"| {name} | {value:.4f} | {value - real:+.4f} |")
     return lines + ["", "![VLA loss](vla_loss.png)", ""]
+
+
+def inputs_lines(demo: Path) -> list[str]:
+    """What the trained VLA reads, from its newest checkpoint's config."""
+    config = newest(list((demo / "vla" / "checkpoints").glob("step_*/config.yaml")))
+    if config is None:
+        return []
+    inputs = OmegaConf.load(config).inputs
+    lines = [f"- inputs: cameras {', '.join(inputs.cameras)}; states {', '.join(inputs.states) or 'none'}"]
+    noise = inputs.get("grasp_point_noise", 0.0)
+    if noise > 0:
+        lines.append(
+            f"- the grasp point it is given is off by N(0, ({100 * noise:g} cm)^2) on each axis: per "
+            "training sample, and one offset per evaluation episode"
+        )
+    return lines
 
 
 def rate_cell(records: list[dict]) -> str:

@@ -71,6 +71,7 @@ class VLAProcessor:
     image_size: int
     prompt: str
     targets: list[str] = field(default_factory=list)  # states the cognition feature learns to regress
+    grasp_point_noise: float = 0.0  # std (m) of the error put on dataset frames' grasp point input
 
     @classmethod
     def for_config(
@@ -85,6 +86,7 @@ class VLAProcessor:
             image_size,
             cfg.model.prompt,
             cfg.train.cognition_targets,
+            cfg.inputs.grasp_point_noise,
         )
 
     def __post_init__(self) -> None:
@@ -147,4 +149,14 @@ class VLAProcessor:
             keys += [schema.ACTION, f"{schema.ACTION}_is_pad"]
             keys += [k for k in state_features(self.targets) if k not in keys]
         batch = {k: torch.stack([torch.as_tensor(f[k]) for f in frames]) for k in keys}
-        return self.collate({**batch, "task": [f["task"] for f in frames]})
+        out = self.collate({**batch, "task": [f["task"] for f in frames]})
+        if self.grasp_point_noise > 0:  # the input only: a grasp-point target stays exact
+            out["state"] = self.state(self.with_grasp_point_error(batch))
+        return out
+
+    def with_grasp_point_error(self, batch: dict) -> dict:
+        """The batch with each frame's grasp point off by N(0, grasp_point_noise^2) on each axis. An
+        isotropic error looks the same in every frame, so a draw in the base frame stands for the
+        evaluator's world-frame one (`VLAEvalPolicy`)."""
+        point = torch.as_tensor(batch[schema.GRASP_POINT_BASE])
+        return {**batch, schema.GRASP_POINT_BASE: point + self.grasp_point_noise * torch.randn_like(point)}

@@ -13,6 +13,10 @@ from mobilemani_vla.data.synthetic import write_synthetic_dataset
         ("diffusion.ddim_steps=500", r"diffusion.ddim_steps=500 \(<= its timesteps\)"),
         ("diffusion.cfg_dropout=1", r"diffusion.cfg_dropout=1.0 \(in \[0, 1\)"),
         ("inputs.state_dropout=1", r"inputs.state_dropout=1.0 \(in \[0, 1\)"),
+        (
+            "inputs.grasp_point_noise=0.02",
+            r"inputs.grasp_point_noise=0.02 \(>= 0, and 0 unless inputs.states holds grasp_point\)",
+        ),
         ("train.lr=-0.001", r"train.lr=-0.001 \(above 0\)"),
         ("train.ema_decay=1.5", r"train.ema_decay=1.5 \(in \[0, 1\); 0 keeps no average\)"),
         ("data.heldout_episodes=-1", r"data.heldout_episodes=-1 \(>= 0\)"),

@@ -8,11 +8,28 @@ from pathlib import Path
 import numpy as np
 import torch
 
+from mobilemani_data import schema
 from mobilemani_rl.envs.mobilemani_env import MobileManiEnv
+from mobilemani_rl.utils.rotations import quat_apply, quat_conj
 from mobilemani_vla.checkpoint import recorded_image_size
 from mobilemani_vla.eval.policies.base import TASK, EvalPolicy, Observation, active_rows, scatter_rows
 from mobilemani_vla.inference import VLAPolicy
 from mobilemani_vla.model.processor import camera_key
+
+
+class GraspPointError:
+    """The error a VLA trained with `inputs.grasp_point_noise` sees on its grasp point input: one world-frame
+    offset per env, i.e. per episode, since each env runs one episode per batch; N(0, std^2) on each axis."""
+
+    def __init__(self, std: float, num_envs: int, seed: int) -> None:
+        self.std = std
+        self.offsets = std * np.random.default_rng(seed).standard_normal((num_envs, 3))
+
+    def __call__(self, grasp_point_base: np.ndarray, base_quat: np.ndarray) -> np.ndarray:
+        """Base-frame grasp points (n, 3) -> the same points moved by each env's offset, which the base's
+        turn (unit quaternions (n, 4)) brings into its frame."""
+        moved = grasp_point_base + quat_apply(quat_conj(base_quat), self.offsets)
+        return moved.astype(np.float32)
 
 
 class VLAEvalPolicy(EvalPolicy):
@@ -33,8 +50,13 @@ class VLAEvalPolicy(EvalPolicy):
         # Diffusion noise, reproducible per batch;
         # on the model's device so CUDA sampling needs no host copies.
         self.generator = torch.Generator(self.policy.device).manual_seed(seed)
+        self.env = env
+        self.grasp_point_error = GraspPointError(self.policy.cfg.inputs.grasp_point_noise, env.num_envs, seed)
 
     def act(self, obs: Observation) -> np.ndarray:
+        if self.grasp_point_error.std > 0:
+            point = self.grasp_point_error(obs[schema.GRASP_POINT_BASE], self.env.frames.base_quat)
+            obs = {**obs, schema.GRASP_POINT_BASE: point}
         rows = active_rows(obs)
         chunks = []
         for part in np.array_split(rows, max(1, -(-len(rows) // self.batch_size))):
