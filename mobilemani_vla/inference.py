@@ -63,9 +63,10 @@ class VLAPolicy:
         instructions: list[str],
         vectors: dict[str, np.ndarray],
         generator: torch.Generator | None = None,
+        null_image: bool = False,
     ) -> np.ndarray:
         """Batched `predict_action_chunk`: images (B, H, W, 3), B instructions, vectors (B, d)
-        -> (B, chunk, A)."""
+        -> (B, chunk, A); `null_image`: the model's null vector in place of its image feature."""
         missing = [c for c in self.cameras if c not in images] + [
             k for k in self.vector_inputs if k not in vectors
         ]
@@ -82,5 +83,5 @@ class VLAPolicy:
         inputs.update({k: torch.from_numpy(np.asarray(vectors[k], np.float32)) for k in self.vector_inputs})
         inputs["task"] = instructions
         batch = {k: v.to(self.device) for k, v in self.processor.collate(inputs).items()}
-        chunks = self.model.predict(batch, generator)
+        chunks = self.model.predict(batch, generator, null_image)
         return self.processor.normalizer.unnormalize(schema.ACTION, chunks).cpu().numpy()

@@ -25,6 +25,9 @@ class PolicyCfg:
     device: str = "cpu"
     batch_size: int = 16  # model policies: envs per forward pass
     rename: dict[str, str] = field(default_factory=dict)  # lerobot: our feature name -> the policy's
+    # vla: every prediction with the learned null vector in place of the image feature and without guidance,
+    # as the diagnostics' null image: what the closed loop loses without the cameras
+    null_image: bool = False
 
 
 DEFAULT_IMAGE_SIZE = (224, 224)

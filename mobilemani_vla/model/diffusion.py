@@ -61,17 +61,20 @@ class ActionDiffusion(nn.Module):
         action_dim: int,
         generator: torch.Generator | None = None,
         cfg_scale: float | None = None,
+        unconditional: bool = False,
     ) -> torch.Tensor:
         """DDIM (eta 0) from pure noise -> normalised chunk (B, N, A); guidance eps_u + s (eps_c - eps_u) with
-        s = `cfg_scale` (default: the config's). The noise is drawn on the generator's device (a CPU generator
-        stays reproducible whatever device the model runs on) and moved to the model's."""
+        s = `cfg_scale` (default: the config's); `unconditional`: the null vector's prediction alone. The
+        noise is drawn on the generator's device (a CPU generator stays reproducible whatever device the model
+        runs on) and moved to the model's."""
         b = cognition.shape[0]
         scale = self.cfg.cfg_scale if cfg_scale is None else cfg_scale
         noise_device = generator.device if generator is not None else cognition.device
         x = torch.randn(
             b, self.cfg.chunk, action_dim, generator=generator, device=noise_device, dtype=cognition.dtype
         ).to(cognition.device)
-        guide = self.guided and scale != 1.0
+        guide = self.guided and scale != 1.0 and not unconditional
+        drop = torch.ones(b, dtype=torch.bool, device=x.device) if unconditional else None
         if guide:  # one pass over [conditional, unconditional]
             cognition = torch.cat([cognition, cognition])
             extra = None if extra is None else torch.cat([extra, extra])
@@ -83,6 +86,6 @@ class ActionDiffusion(nn.Module):
                 eps_c, eps_u = self.dit(torch.cat([x, x]), steps, cognition, extra, drop).chunk(2)
                 eps = eps_u + scale * (eps_c - eps_u)
             else:
-                eps = self.dit(x, steps, cognition, extra)
+                eps = self.dit(x, steps, cognition, extra, drop)
             x = self.scheduler.step(eps, t, x, eta=0.0).prev_sample
         return x

@@ -75,11 +75,15 @@ class MobileManiVLA(nn.Module):
 
     @torch.no_grad()
     def predict(
-        self, batch: dict[str, torch.Tensor], generator: torch.Generator | None = None
+        self,
+        batch: dict[str, torch.Tensor],
+        generator: torch.Generator | None = None,
+        null_image: bool = False,
     ) -> torch.Tensor:
-        """Normalised action chunks (B, N, A)."""
+        """Normalised action chunks (B, N, A); `null_image`: sampled from the guidance's null vector alone
+        (the "unconditional" input, which stands for the whole cognition feature), without guidance."""
         cognition, state = self.condition(batch)
-        return self.head.sample(cognition, state, self.action_dim, generator)
+        return self.head.sample(cognition, state, self.action_dim, generator, unconditional=null_image)
 
 
 def build_model(

@@ -50,6 +50,8 @@ def test_a_policy_setting_its_kind_does_not_read_is_refused():
         build_policy(PolicyCfg(kind="teacher", rename=rename, device="cuda"))
     with pytest.raises(InputError, match="policy.kind=vla does not read policy.runs_dir=runs/teachers"):
         build_policy(PolicyCfg(kind="vla", checkpoint="ckpt", runs_dir="runs/teachers"))
+    with pytest.raises(InputError, match="policy.kind=lerobot does not read policy.null_image=True"):
+        build_policy(PolicyCfg(kind="lerobot", checkpoint="ckpt", null_image=True))
 
 
 def test_a_fixed_action_index_outside_the_chunk_stops_before_anything_is_written(tmp_path):

@@ -37,13 +37,14 @@ def test_dit_b_size_with_a_paligemma2_condition():
 
 
 def test_dit_starts_at_zero_noise_and_drops_conditions():
+    torch.manual_seed(0)  # batch sizes 3 and 1 round differently: a fixed draw keeps the tolerance meaningful
     dit = DiT("Ti", action_dim=7, chunk=16, cond_dim=64, guidance=True)
     x, t, c = torch.randn(3, 16, 7), torch.tensor([0, 50, 99]), torch.randn(3, 64)
     assert torch.equal(dit(x, t, c), torch.zeros(3, 16, 7))
     torch.nn.init.normal_(dit.out.weight)
     drop = torch.tensor([True, False, True])
     dropped = dit(x, t, c, drop=drop)
-    assert torch.allclose(dropped[0], dit(x[:1], t[:1], torch.randn(1, 64), drop=drop[:1])[0], atol=1e-5)
+    assert torch.allclose(dropped[0], dit(x[:1], t[:1], torch.randn(1, 64), drop=drop[:1])[0], atol=1e-4)
     assert not torch.allclose(dropped[1], dit(x[1:2], t[1:2], torch.randn(1, 64))[0])
 
 
@@ -176,6 +177,21 @@ def test_training_gradients_equal_those_of_paligemmas_own_masking(monkeypatch):
     theirs = gradients()
     assert ours.keys() == theirs.keys()
     assert all(torch.equal(ours[name], theirs[name]) for name in theirs)
+
+
+def test_a_null_image_prediction_is_the_null_vectors_whatever_the_backbone_sees():
+    torch.manual_seed(0)
+    model = build_model(compose_vla_cfg(["inputs.states=[]"]), build_word_tokenizer()).eval()
+    torch.nn.init.normal_(model.head.dit.out.weight, std=0.02)  # zero-initialised: every output 0
+    features = iter([torch.randn(2, model.backbone.width), torch.randn(2, model.backbone.width)])
+    model.condition = lambda batch: (next(features), None)
+
+    def predict(null_image: bool) -> torch.Tensor:
+        return model.predict({}, torch.Generator().manual_seed(3), null_image)
+
+    assert torch.equal(predict(True), predict(True))  # two different image features, one prediction
+    features = iter([torch.randn(2, model.backbone.width), torch.randn(2, model.backbone.width)])
+    assert not torch.allclose(predict(False), predict(False))
 
 
 def test_ddim_uses_cogacts_ten_leading_steps_and_an_oracle_recovers_x0():

@@ -14,6 +14,7 @@ READ_BY = {
     "device": ("vla", "lerobot"),
     "batch_size": ("vla", "lerobot"),
     "rename": ("lerobot",),
+    "null_image": ("vla",),
 }
 
 
@@ -32,7 +33,7 @@ def build_policy(cfg: PolicyCfg) -> EvalPolicy:
     if cfg.kind == "vla":
         from mobilemani_vla.eval.policies.vla import VLAEvalPolicy
 
-        return VLAEvalPolicy(cfg.checkpoint, cfg.device, cfg.batch_size)
+        return VLAEvalPolicy(cfg.checkpoint, cfg.device, cfg.batch_size, cfg.null_image)
     if cfg.kind == "lerobot":
         from mobilemani_vla.eval.policies.lerobot import LeRobotEvalPolicy
 

@@ -10,6 +10,7 @@ import torch
 
 from mobilemani_data import schema
 from mobilemani_rl.envs.mobilemani_env import MobileManiEnv
+from mobilemani_rl.utils.errors import InputError
 from mobilemani_rl.utils.rotations import quat_apply, quat_conj
 from mobilemani_vla.checkpoint import recorded_image_size
 from mobilemani_vla.eval.policies.base import TASK, EvalPolicy, Observation, active_rows, scatter_rows
@@ -36,8 +37,16 @@ class VLAEvalPolicy(EvalPolicy):
     name = "vla"
     action_frame = "base"
 
-    def __init__(self, checkpoint: str | Path, device: str = "cpu", batch_size: int = 16) -> None:
+    def __init__(
+        self, checkpoint: str | Path, device: str = "cpu", batch_size: int = 16, null_image: bool = False
+    ) -> None:
         self.policy = VLAPolicy.load(checkpoint, device)
+        if null_image and self.policy.cfg.diffusion.cfg_dropout == 0:
+            raise InputError(
+                f"policy.null_image=true needs a VLA trained with diffusion.cfg_dropout > 0; {checkpoint} "
+                "has no null vector"
+            )
+        self.null_image = null_image
         self.image_size = recorded_image_size(checkpoint)  # render as the training data was rendered
         self.batch_size = batch_size
         self.action_dim = self.policy.cfg.action_dim
@@ -65,7 +74,7 @@ class VLAEvalPolicy(EvalPolicy):
                 vectors = {k: obs[k][part] for k in self.policy.vector_inputs}
                 chunks.append(
                     self.policy.predict_action_chunks(
-                        images, [obs[TASK][i] for i in part], vectors, self.generator
+                        images, [obs[TASK][i] for i in part], vectors, self.generator, self.null_image
                     )
                 )
         return scatter_rows(rows, np.concatenate(chunks), len(obs[TASK]))
