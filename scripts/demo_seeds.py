@@ -5,12 +5,14 @@ from the records each run left:
 
 Each `seed_<N>/` folder holds a run's teacher evaluation (`teacher_eval_256.json`), its closed-loop episodes
 (`eval_teacher.jsonl`, `eval_vla.jsonl`, `eval_vla_seed1.jsonl`) and the VLA's held-out diagnostics
-(`vla_diagnostics.jsonl`); the first table gives the VLA's 60 episodes with their Wilson interval and the
-spread. Each `seed_<N>/variants/<name>/` folder holds the VLA records of one more VLA trained on that run's
-dataset with other settings (its `overrides.txt`); the next table lists them beside the run's own VLA. Any
-other `<dataset>/variants/<name>/` folder holds the same records of a VLA trained on another dataset, which
-`<dataset>/dataset.txt` names and `<dataset>/dataset_stats.json` describes; each such dataset gets a table of
-its own.
+(`vla_diagnostics.jsonl`), and where measured the same 60 episodes with the VLA's image feature replaced by
+its null vector (`eval_vla_null_image.jsonl`, `eval_vla_null_image_seed1.jsonl`; `policy.null_image=true`); a
+table gets that column when one of its VLAs has them. The first table gives the VLA's 60 episodes with their
+Wilson interval and the spread. Each `seed_<N>/variants/<name>/` folder holds the VLA records of one more VLA
+trained on that run's dataset with other settings (its `overrides.txt`); the next table lists them beside the
+run's own VLA. Any other `<dataset>/variants/<name>/` folder holds the same records of a VLA trained on
+another dataset, which `<dataset>/dataset.txt` names and `<dataset>/dataset_stats.json` describes; each such
+dataset gets a table of its own.
 """
 
 from __future__ import annotations
@@ -26,11 +28,27 @@ VLA_HEADER = (
     "| VLA, 60 in the test rooms | VLA per room (of 15) | held-out noise error "
     "| minus it: null image / empty instruction / no state |"
 )
+NULL_IMAGE_HEADER = " the same 60 with a null image |"
+NULL_IMAGE_RECORDS = ("eval_vla_null_image.jsonl", "eval_vla_null_image_seed1.jsonl")
+
+
+def episodes(folder: Path, names: tuple[str, ...]) -> list[dict]:
+    return [record for name in names for record in read_records(folder / name)]
+
+
+def has_null_image(folders: list[Path]) -> bool:
+    return any((folder / NULL_IMAGE_RECORDS[0]).is_file() for folder in folders)
+
+
+def null_image_cell(folder: Path) -> str:
+    if not all((folder / name).is_file() for name in NULL_IMAGE_RECORDS):
+        return "-"
+    return rate_cell(episodes(folder, NULL_IMAGE_RECORDS))
 
 
 def vla_cells(folder: Path) -> tuple[list[str], float]:
     """A VLA's 60 episodes, per room, and its last held-out diagnostics; and its success rate."""
-    vla = read_records(folder / "eval_vla.jsonl") + read_records(folder / "eval_vla_seed1.jsonl")
+    vla = episodes(folder, ("eval_vla.jsonl", "eval_vla_seed1.jsonl"))
     rooms = sorted({r["scene"] for r in vla})
     per_room = "/".join(str(sum(r["success"] for r in vla if r["scene"] == room)) for room in rooms)
     diag = json.loads((folder / "vla_diagnostics.jsonl").read_text().splitlines()[-1])
@@ -42,11 +60,23 @@ def vla_cells(folder: Path) -> tuple[list[str], float]:
     return [rate_cell(vla), per_room, f"{image:.4f}", gaps], sum(r["success"] for r in vla) / len(vla)
 
 
-def seed_row(run: Path) -> tuple[list[str], float]:
+def seed_cells(run: Path) -> list[str]:
+    """A run's PPO seed and its teacher's two rates."""
     teacher = json.loads((run / "teacher_eval_256.json").read_text())
-    cells, rate = vla_cells(run)
-    seed, closed_loop = run.name.removeprefix("seed_"), rate_cell(read_records(run / "eval_teacher.jsonl"))
-    return [seed, f"{100 * teacher['success_rate']:.1f}%", closed_loop, *cells], rate
+    closed_loop = rate_cell(read_records(run / "eval_teacher.jsonl"))
+    return [run.name.removeprefix("seed_"), f"{100 * teacher['success_rate']:.1f}%", closed_loop]
+
+
+def vla_table(first_header: str, rows: list[tuple[list[str], Path]]) -> None:
+    """One row per (first cells, VLA folder), with the null-image column where one of them has it."""
+    null = has_null_image([folder for _, folder in rows])
+    print_table(
+        first_header + VLA_HEADER + (NULL_IMAGE_HEADER if null else ""),
+        [
+            [*first, *vla_cells(folder)[0], *([null_image_cell(folder)] if null else [])]
+            for first, folder in rows
+        ],
+    )
 
 
 def print_table(header: str, rows: list[list[str]]) -> None:
@@ -61,10 +91,11 @@ def main() -> None:
     parser.add_argument("folder", type=Path)
     args = parser.parse_args()
     runs = sorted(args.folder.glob("seed_*"), key=lambda run: int(run.name.removeprefix("seed_")))
-    rows = [seed_row(run) for run in runs]
-    teacher_header = "| PPO seed | teacher, 256 episodes | teacher, 20 in the test rooms "
-    print_table(teacher_header + VLA_HEADER, [cells for cells, _ in rows])
-    rates = [rate for _, rate in rows]
+    vla_table(
+        "| PPO seed | teacher, 256 episodes | teacher, 20 in the test rooms ",
+        [(seed_cells(run), run) for run in runs],
+    )
+    rates = [vla_cells(run)[1] for run in runs]
     print(
         f"\nSpread of the VLA over the seeds: {100 * min(rates):.1f}-{100 * max(rates):.1f}% "
         f"({100 * (max(rates) - min(rates)):.1f} points)."
@@ -73,16 +104,14 @@ def main() -> None:
         variants = sorted((run / "variants").glob("*"))
         if variants:
             print(f"\nVLAs trained on the dataset of PPO seed {run.name.removeprefix('seed_')}:\n")
-            print_table(
-                "| VLA settings " + VLA_HEADER, [["the demo's", *vla_cells(run)[0]], *variant_rows(variants)]
-            )
+            vla_table("| VLA settings ", [(["the demo's"], run), *variant_rows(variants)])
     for dataset in sorted(d for d in args.folder.iterdir() if (d / "dataset.txt").is_file()):
         print(f"\nVLAs trained on {(dataset / 'dataset.txt').read_text().strip()}:\n")
-        print_table("| VLA settings " + VLA_HEADER, variant_rows(sorted((dataset / "variants").glob("*"))))
+        vla_table("| VLA settings ", variant_rows(sorted((dataset / "variants").glob("*"))))
 
 
-def variant_rows(variants: list[Path]) -> list[list[str]]:
-    return [[f"`{(v / 'overrides.txt').read_text().strip()}`", *vla_cells(v)[0]] for v in variants]
+def variant_rows(variants: list[Path]) -> list[tuple[list[str], Path]]:
+    return [([f"`{(v / 'overrides.txt').read_text().strip()}`"], v) for v in variants]
 
 
 if __name__ == "__main__":
