@@ -81,7 +81,7 @@ class InputsCfg:
     state_dropout: float = 0.0
     # Standard deviation (m, each axis) of an error on the grasp point input, as a detector's estimate of
     # where the object is would be off: one draw per training sample, one world-frame offset per episode
-    # in evaluation. The state then brings the hand near the object; only the cameras bring it onto it.
+    # in evaluation. The state alone then brings the hand near the object, not onto it.
     grasp_point_noise: float = 0.0
 
 
