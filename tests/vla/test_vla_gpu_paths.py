@@ -8,6 +8,7 @@ import shutil
 import subprocess
 import sys
 from pathlib import Path
+from types import SimpleNamespace
 
 import numpy as np
 import pytest
@@ -102,14 +103,14 @@ def test_pretrained_backbone_loads_in_the_configured_dtype_and_feeds_a_float32_h
 @pytest.mark.parametrize("on", DEVICES)
 def test_evaluation_noise_generator_lives_on_the_model_device(checkpoint, on):
     policy = VLAEvalPolicy(checkpoint, on)
-    policy.start(env=None, seed=3)
+    policy.start(env=SimpleNamespace(num_envs=1), seed=3)
     device = next(policy.policy.model.parameters()).device
     assert policy.generator.device == device
     size = policy.policy.model.backbone.image_size
     images = {c: np.zeros((1, size, size, 3), np.uint8) for c in policy.policy.cameras}
     vectors = {k: np.zeros((1, 10), np.float32) for k in policy.policy.vector_inputs}
     first = policy.policy.predict_action_chunks(images, ["open box"], vectors, policy.generator)
-    policy.start(env=None, seed=3)
+    policy.start(env=SimpleNamespace(num_envs=1), seed=3)
     again = policy.policy.predict_action_chunks(images, ["open box"], vectors, policy.generator)
     assert np.array_equal(first, again)
 
