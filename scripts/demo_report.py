@@ -130,14 +130,15 @@ def inputs_lines(demo: Path) -> list[str]:
         return []
     inputs = OmegaConf.load(config).inputs
     lines = [f"- inputs: cameras {', '.join(inputs.cameras)}; states {', '.join(inputs.states) or 'none'}"]
-    noise = inputs.get("grasp_point_noise", 0.0)
-    if "grasp_point" in inputs.states and noise == 0:
-        lines.append("- the grasp point it is given is exact (the paper's pseudo-observation)")
-    if noise > 0:
-        lines.append(
-            f"- the grasp point it is given is off by N(0, ({100 * noise:g} cm)^2) on each axis: per "
-            "training sample, and one offset per evaluation episode"
-        )
+    if "grasp_point" not in inputs.states:
+        return lines
+    noise = inputs.get("grasp_point_noise", 0.0)  # validated: > 0 only with grasp_point among the states
+    lines.append(
+        f"- the grasp point it is given is off by N(0, ({100 * noise:g} cm)^2) on each axis: per training "
+        "sample, and one offset per evaluation episode"
+        if noise > 0
+        else "- the grasp point it is given is exact (the paper's pseudo-observation)"
+    )
     return lines
 
 
