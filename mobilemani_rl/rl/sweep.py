@@ -18,7 +18,9 @@ objects more episodes per object, so that every row's test success counts at lea
 the sweep rewrites `<out>/teachers_<robot>.json` and `.md` with every row finished so far, also by earlier
 runs over other rows (per row: test and train success, the warm start's scripted success, samples, wall
 minutes, the command that recreates it; rows below the paper's skill mean with the stage they fall short in),
-and the paper's teacher tables computed from those rows' test objects (`rl_by_skill`, `rl_by_category`).
+and the paper's teacher tables computed from those rows' test objects (`rl_by_skill`, `rl_by_category`);
+where `--out` is named after the robot (`make teachers`' `TEACHERS_OUT/<robot>`), the same tables with both
+robots' columns, from every `TEACHERS_OUT/<robot>/teachers_<robot>.json`, go to `TEACHERS_OUT`.
 Checkpoints stay under `--runs`. Both `--runs` and `--out` are checked for writability before the first row
 trains.
 """
@@ -199,6 +201,12 @@ def test_success(records: list[dict]) -> dict[tuple[str, str, str], float]:
     }
 
 
+def every_robots_records(root: Path) -> list[dict]:
+    """The finished rows of every robot whose sweep writes to `root/<robot>` (`make teachers`' layout)."""
+    files = [root / robot / f"teachers_{robot}.json" for robot in ROBOTS]
+    return [record for path in files if path.is_file() for record in read_json(path)]
+
+
 def rows_markdown(records: list[dict], total: int) -> str:
     lines = [
         f"{len(records)} of {total} rows finished. Success (%) over the category's test objects (not trained "
@@ -293,6 +301,8 @@ def main(argv: list[str] | None = None) -> None:
         write_json_atomic(rows_file, everything)
         (args.out / f"teachers_{args.robot}.md").write_text(rows_markdown(everything, len(rows())))
         write_tables(test_success(everything), args.out)
+        if args.out.name == args.robot:  # `TEACHERS_OUT/<robot>`: the paper tables with every robot's column
+            write_tables(test_success(every_robots_records(args.out.parent)), args.out.parent)
 
 
 if __name__ == "__main__":

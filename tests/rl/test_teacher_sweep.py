@@ -48,6 +48,21 @@ def test_a_row_trains_evaluates_on_test_objects_and_is_skipped_when_done(tmp_pat
     assert "| Open | - |" not in by_skill and "| Close | - |" not in by_skill
 
 
+def test_sweeps_into_robot_named_folders_write_both_robots_paper_tables_one_level_up(tmp_path):
+    """`make teachers` writes to TEACHERS_OUT/<robot>: each robot's sweep leaves the two-robot tables in
+    TEACHERS_OUT, from every robot's records, whichever robot ran last."""
+    runs, root = tmp_path / "runs", tmp_path / "tables"
+    row = [*TINY, "--categories", "microwave", "--skills", "open"]
+    for robot in ("g1", "xhand"):
+        teacher_sweep.main(["--robot", robot, "--runs", str(runs), "--out", str(root / robot), *row])
+    both = (root / "rl_by_skill.md").read_text()
+    open_row = next(line for line in both.splitlines() if line.startswith("| Open"))
+    assert " - " not in open_row  # G1 and XHand both measured, beside the paper's two
+    assert "G1 1 of 39, XHand 1 of 39 rows" in both
+    # each robot's own folder keeps its own column only
+    assert "| Open | - |" in (root / "xhand" / "rl_by_skill.md").read_text()
+
+
 def test_a_row_recorded_by_the_same_command_is_kept_when_its_runs_are_gone(tmp_path):
     """Rows finished on another machine (their checkpoints not kept) are not trained again; a row recorded by
     another command is."""
