@@ -357,6 +357,11 @@ def render_part(cfg: DataCfg, folder: Path, part: Part) -> dict:
             report.skipped.append(str(err))
             print(f"skipped shard {err}", file=sys.stderr, flush=True)
             continue
+        if not shard.episodes:  # the teacher succeeded in none of the combination's attempts
+            message = f"{path}: no episode (collection found no success within its attempts)"
+            report.skipped.append(message)
+            print(f"skipped shard {message}", file=sys.stderr, flush=True)
+            continue
         lines += add_shard(ds, shard, robot, cfg.export, raw_dir, report)
     ds.finalize()
     manifest = {

@@ -67,7 +67,7 @@ def episode_non_finite(shard: Shard, k: int) -> list[str]:
 
 def check_shards(raw_dir: Path, robot: str, cfg: ValidateCfg) -> ShardChecks:
     """Every shard readable and every float array of every episode finite; the first episode of the first
-    `cfg.replay_episodes` readable shards replayed."""
+    `cfg.replay_episodes` readable shards that hold one replayed."""
     checks = ShardChecks()
     for path in shard_paths(raw_dir, robot):
         try:
@@ -77,7 +77,7 @@ def check_shards(raw_dir: Path, robot: str, cfg: ValidateCfg) -> ShardChecks:
             continue
         checks.lengths[str(path.relative_to(raw_dir))] = [episode.length for episode in shard.episodes]
         checks.problems += [p for k in range(len(shard.episodes)) for p in episode_non_finite(shard, k)]
-        if checks.replayed < cfg.replay_episodes:
+        if checks.replayed < cfg.replay_episodes and shard.episodes:
             errors = Replayer(shard).check(shard.episodes[0])
             checks.replayed += 1
             checks.worst = max(checks.worst, errors.worst())

@@ -17,7 +17,7 @@ from mobilemani_data.combos import shard_path
 from mobilemani_data.export import export, export_source
 from mobilemani_data.metadata import read_episodes, read_export_report
 from mobilemani_data.parts import MANIFEST, PARTIAL, finished_manifest, parts_dir
-from mobilemani_data.shards import shard_paths
+from mobilemani_data.shards import read_shard, shard_paths
 from mobilemani_data.stats import dataset_action_roughness, dataset_stats
 from mobilemani_data.validate import validate
 from mobilemani_rl.envs.tasks import select_combinations
@@ -92,6 +92,24 @@ def test_a_subset_without_shards_stops_before_anything_is_written(collected, tmp
         export(cfg)
     root = Path(cfg.dataset_dir)
     assert not root.exists() and not parts_dir(root).exists()
+
+
+def test_a_combination_without_a_success_is_named_and_the_rest_exported(collected, tmp_path):
+    """A teacher can fail every attempt in a combination (its shard holds no episode): export leaves that
+    shard out by name, exports the others, and validate passes."""
+    cfg = copy_of(collected, tmp_path)
+    failed = Path(cfg.raw_dir) / collected_shards(cfg)[1]
+    failed.unlink()
+    recollect = tiny_cfg(tmp_path, *SUBSET, "collect.max_steps=1")  # one control step: no episode can succeed
+    collect(recollect)
+    assert read_shard(failed).episodes == []
+    report = export(cfg)
+    assert report.skipped == [f"{failed}: no episode (collection found no success within its attempts)"]
+    lines = read_episodes(Path(cfg.dataset_dir))
+    assert len(lines) == report.episodes == 6 and str(failed.relative_to(cfg.raw_dir)) not in {
+        line["shard"] for line in lines
+    }
+    assert validate(cfg) == []
 
 
 def interrupted_export(cfg, monkeypatch, stop: Callable[[Path], bool]) -> None:
