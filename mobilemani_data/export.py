@@ -84,6 +84,7 @@ class ExportReport:
     frames: int = 0
     skipped: list[str] = field(default_factory=list)  # one message per shard left out
     skipped_episodes: list[str] = field(default_factory=list)  # one message per non-finite episode left out
+    empty: list[str] = field(default_factory=list)  # one message per shard without an episode (no success)
     render_s: float = 0.0
     total_s: float = 0.0
     reused: bool = False  # the dataset was already up to date: nothing was rendered
@@ -258,6 +259,7 @@ def export_parts(cfg: DataCfg, raw_dir: Path, root: Path, parts: list[Part]) -> 
             existing["frames"],
             existing["skipped"],
             existing.get("skipped_episodes", []),
+            existing.get("empty", []),
             reused=True,
         )
     if root.exists() and not cfg.export.overwrite:
@@ -293,11 +295,12 @@ def export_parts(cfg: DataCfg, raw_dir: Path, root: Path, parts: list[Part]) -> 
     for manifest in merged:
         report.skipped += manifest["skipped"]
         report.skipped_episodes += manifest["skipped_episodes"]
+        report.empty += manifest.get("empty", [])  # parts sealed before shards could be empty hold none
     lines = [line for manifest in merged for line in manifest["lines"]]
     if not lines:
         raise ShardError(
-            f"no readable shard among the subset's under {raw_dir / cfg.robot}: "
-            f"{report.skipped + report.skipped_episodes}"
+            f"no readable shard with an episode among the subset's under {raw_dir / cfg.robot}: "
+            f"{report.skipped + report.skipped_episodes + report.empty}"
         )
     tmp = root.with_name(root.name + PARTIAL)
     shutil.rmtree(tmp, ignore_errors=True)
@@ -318,6 +321,7 @@ def export_parts(cfg: DataCfg, raw_dir: Path, root: Path, parts: list[Part]) -> 
                 "frames": report.frames,
                 "skipped": report.skipped,
                 "skipped_episodes": report.skipped_episodes,
+                "empty": report.empty,
                 "width": cfg.export.width,
                 "height": cfg.export.height,
                 "vcodec": cfg.export.vcodec,
@@ -357,10 +361,8 @@ def render_part(cfg: DataCfg, folder: Path, part: Part) -> dict:
             report.skipped.append(str(err))
             print(f"skipped shard {err}", file=sys.stderr, flush=True)
             continue
-        if not shard.episodes:  # the teacher succeeded in none of the combination's attempts
-            message = f"{path}: no episode (collection found no success within its attempts)"
-            report.skipped.append(message)
-            print(f"skipped shard {message}", file=sys.stderr, flush=True)
+        if not shard.episodes:  # the teacher failed every attempt: a fact of the data, not damage
+            report.empty.append(f"{path}: no episode (collection found no success within its attempts)")
             continue
         lines += add_shard(ds, shard, robot, cfg.export, raw_dir, report)
     ds.finalize()
@@ -371,6 +373,7 @@ def render_part(cfg: DataCfg, folder: Path, part: Part) -> dict:
         "render_s": report.render_s,
         "skipped": report.skipped,
         "skipped_episodes": report.skipped_episodes,
+        "empty": report.empty,
         "lines": lines,
     }
     seal_part(tmp, target, manifest)
@@ -400,7 +403,8 @@ def main(cfg: DictConfig) -> None:
     print(
         f"{report.root}: {report.episodes} episodes, {report.frames} frames{timing}; "
         f"{report.missing} combinations without a shard, {len(report.skipped)} shards skipped, "
-        f"{len(report.skipped_episodes)} non-finite episodes skipped"
+        f"{len(report.skipped_episodes)} non-finite episodes skipped, {len(report.empty)} combinations "
+        "without an episode"
     )
     if report.skipped or report.skipped_episodes:
         sys.exit(1)

@@ -95,8 +95,8 @@ def test_a_subset_without_shards_stops_before_anything_is_written(collected, tmp
 
 
 def test_a_combination_without_a_success_is_named_and_the_rest_exported(collected, tmp_path):
-    """A teacher can fail every attempt in a combination (its shard holds no episode): export leaves that
-    shard out by name, exports the others, and validate passes."""
+    """A teacher can fail every attempt in a combination (its shard holds no episode): export names that
+    shard in its report, apart from damaged ones, exports the others, and validate passes."""
     cfg = copy_of(collected, tmp_path)
     failed = Path(cfg.raw_dir) / collected_shards(cfg)[1]
     failed.unlink()
@@ -104,7 +104,10 @@ def test_a_combination_without_a_success_is_named_and_the_rest_exported(collecte
     collect(recollect)
     assert read_shard(failed).episodes == []
     report = export(cfg)
-    assert report.skipped == [f"{failed}: no episode (collection found no success within its attempts)"]
+    assert report.skipped == [] and report.empty == [
+        f"{failed}: no episode (collection found no success within its attempts)"
+    ]
+    assert read_export_report(Path(cfg.dataset_dir))["empty"] == report.empty
     lines = read_episodes(Path(cfg.dataset_dir))
     assert len(lines) == report.episodes == 6 and str(failed.relative_to(cfg.raw_dir)) not in {
         line["shard"] for line in lines
