@@ -46,8 +46,7 @@ class Replayer:
             placement,
         )
         self.data = mujoco.MjData(self.model)
-        state_size = mujoco.mj_stateSize(self.model, STATE_SPEC)
-        if shard.episodes and shard.episodes[0].arrays["state"].shape[1] != state_size:
+        if mujoco.mj_stateSize(self.model, STATE_SPEC) != shard.episodes[0].arrays["state"].shape[1]:
             raise ValueError(f"{shard.path}: recorded state size does not match the rebuilt model")
 
     def set_state(self, state: np.ndarray) -> mujoco.MjData:
