@@ -13,7 +13,7 @@ PYTHON312 ?= $(shell for c in python3.12 $$(pyenv root 2>/dev/null)/versions/3.1
 ROBOT ?= g1
 # Every output goes under outputs/ by default (the path variables below and the Hydra configs' defaults).
 
-.PHONY: help setup test test-slow lint bench bench-sim bench-ppo clean-venv rl teachers teachers-base-ablation tables vla bench-vla demo eval
+.PHONY: help setup test test-slow lint bench bench-sim bench-ppo clean-venv rl teachers teachers-base-ablation tables vla ablation bench-vla demo eval
 
 setup: $(VENV)/.installed
 
@@ -31,6 +31,7 @@ help:
 	@echo "make vla          train MobileManiVLA (ROBOT EXPERIMENT VLA_ARGS)"
 	@echo "make recipe       the CPU VLA recipe end to end: data, VLA, evaluation in unseen rooms (RECIPE_SKILL RECIPE_STEPS)"
 	@echo "make lerobot      a stock LeRobot policy on a dataset, then the same evaluation (LEROBOT_POLICY LEROBOT_DATA)"
+	@echo "make ablation     the paper's VLA ablation study, resumable: rows trained and evaluated, then tables (ABLATION_ARGS)"
 	@echo "make eval         the paper's closed-loop evaluation (ROBOT CHECKPOINT POLICY PROTOCOL SPLIT WORKERS EVAL_ARGS)"
 	@echo "make tables       the paper's tables and plots from the results found (RL_RUNS EVAL_RESULTS)"
 	@echo "make bench        every benchmark in one JSON (outputs/bench.json) and one table"
@@ -146,6 +147,13 @@ eval: setup
 VLA_ARGS ?=
 vla: setup
 	$(PY) -m mobilemani_vla.train robot=$(ROBOT) $(if $(EXPERIMENT),+experiment=$(EXPERIMENT)) $(VLA_ARGS)
+
+# The paper's VLA ablation study (docs/results/ablation.md): every row trained on the ablation dataset and
+# evaluated on its protocol, in order, within ABLATION_ARGS' --minutes (default 150); rerun until it says the
+# rows are done. Options: python -m mobilemani_vla.ablation_study --help.
+ABLATION_ARGS ?=
+ablation: setup
+	$(PY) -m mobilemani_vla.ablation_study --tables $(TABLES)/vla $(ABLATION_ARGS)
 
 bench-vla: setup
 	$(PY) -m mobilemani_vla.bench

@@ -121,6 +121,22 @@ def recorded_image_size(directory: str | Path) -> tuple[int, int] | None:
     return tuple(read_json(path)["image_size"]) if path.is_file() else None
 
 
+def training_scale(directory: str | Path, cfg: VLACfg) -> dict:
+    """How much training a checkpoint holds, for the captions of result tables: its model preset, steps,
+    batch, samples seen, training episodes and image size."""
+    directory = Path(directory)
+    dataset = read_json(directory / DATASET)
+    step = checkpoint_step(directory)
+    return {
+        "model": cfg.model.name,
+        "steps": step,
+        "batch_size": cfg.train.batch_size,
+        "samples": step * cfg.train.batch_size,
+        "train_episodes": len(dataset["train_episodes"]),
+        "image_size": dataset.get("image_size"),
+    }
+
+
 def load_ema(ema: AveragedModel, directory: Path) -> None:
     """Restore a resumed run's moving average (weights and update count)."""
     load_model(ema, str(directory / EMA_WEIGHTS))

@@ -167,6 +167,13 @@ def run_vla_tables(out: Path, tmp: Path) -> None:
     main.__wrapped__()
 
 
+def run_ablation_study(out: Path, tmp: Path) -> None:
+    from mobilemani_vla.ablation_study import main
+
+    sys.argv = ["ablation_study", "--tables", str(out / "vla")]
+    main.__wrapped__()
+
+
 # command -> (how it runs, the output path its message names, the key that sets it)
 COMMANDS: dict[str, tuple[Callable[[Path, Path], None], Callable[[Path], Path], str]] = {
     "collect": (run_collect, lambda out: out / "raw", "raw_dir"),
@@ -186,6 +193,7 @@ COMMANDS: dict[str, tuple[Callable[[Path, Path], None], Callable[[Path], Path], 
     "vla train": (run_vla_train, lambda out: out / "vla", "train.output_dir"),
     "evaluate": (run_evaluate, lambda out: out / "eval" / "g1" / "probe", "output_dir"),
     "vla tables": (run_vla_tables, lambda out: out / "vla", "--out"),
+    "ablation study": (run_ablation_study, lambda out: out / "vla", "--tables"),
 }
 
 

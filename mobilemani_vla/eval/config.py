@@ -7,10 +7,12 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 from typing import get_args
 
+from hydra import compose, initialize_config_dir
+
 from mobilemani_rl.envs.base_frame import Convention
-from mobilemani_rl.envs.config import EnvCfg, EnvParamsCfg, RobotChoiceCfg, check_env_block
+from mobilemani_rl.envs.config import EnvCfg, EnvParamsCfg, RobotChoiceCfg, check_env_block, with_env_task
 from mobilemani_rl.envs.tasks import SubsetCfg
-from mobilemani_rl.utils.config_store import register_schema
+from mobilemani_rl.utils.config_store import CONF_DIR, register_schema, to_dataclass
 from mobilemani_rl.utils.errors import check_choice, check_positive, check_torch_device, check_values
 from mobilemani_vla.model.ensemble import EnsembleCfg
 
@@ -55,6 +57,9 @@ class EvalCfg:
     # Processes running blocks side by side (mobilemani_rl.utils.process_pool), each with its own policy and
     # an equal share of the CPU's threads; results do not depend on it, so a rerun may change it.
     workers: int = 1
+    # Minutes after which no further block starts (0: no limit): the run stops with its results file
+    # resumable and without a summary, so it does not look complete; the same command runs the rest.
+    piece_minutes: float = 0.0
     env: EnvCfg = field(default_factory=EnvCfg)
 
     @property
@@ -93,6 +98,7 @@ class EvalCfg:
                     "-1: adaptive ensemble, else a chunk index",
                 ),
                 ("image_size", size, size is None or (len(size) == 2 and min(size) >= 1), "[height, width]"),
+                ("piece_minutes", self.piece_minutes, self.piece_minutes >= 0, ">= 0; 0: no limit"),
             ]
         )
         check_choice(self.action_convention, get_args(Convention), "action_convention")
@@ -110,3 +116,11 @@ class EvalRootCfg(EvalCfg):
 
 
 register_schema("eval_schema", EvalRootCfg)
+
+
+def compose_eval_cfg(overrides: list[str]) -> EvalCfg:
+    """conf/eval.yaml with command-line style overrides, checked, as `python -m mobilemani_vla.eval.evaluate`
+    would see it (for commands that run evaluations in their own process, and tests)."""
+    with initialize_config_dir(config_dir=str(CONF_DIR), version_base="1.3"):
+        cfg = compose(config_name="eval", overrides=overrides)
+    return to_dataclass(with_env_task(cfg), EvalCfg).check()

@@ -25,6 +25,7 @@ import os
 os.environ.setdefault("MUJOCO_GL", "egl")  # this command renders offscreen; mujoco reads it when imported
 
 import json
+import time
 from collections.abc import Callable
 from functools import partial
 from pathlib import Path
@@ -197,18 +198,25 @@ def evaluate(cfg: EvalCfg, policy: EvalPolicy | None = None) -> dict:
     tasks = {(c.robot, c.object_id, c.skill) for c in combos}
     checkpoints = check_same_settings(out, settings, policy.check_tasks(tasks))
     with ResultsFile(out / f"{cfg.split_name}.jsonl") as results:
-        config = {"eval": settings, "policy_inputs": sorted(policy.inputs), "task_checkpoints": checkpoints}
+        config = {
+            "eval": settings,
+            "policy_inputs": sorted(policy.inputs),
+            "policy_training": policy.training or {},
+            "task_checkpoints": checkpoints,
+        }
         write_json_atomic(out / "config.json", config)
-        run_missing_episodes(cfg, policy, combos, results)
+        complete = run_missing_episodes(cfg, policy, combos, results)
         summary = summarize(read_records(results.path))
-        write_json_atomic(summary_path(results.path), summary)
+        if complete:  # last, so that a stopped run never looks finished (results.finished)
+            write_json_atomic(summary_path(results.path), summary)
     return summary
 
 
 def run_missing_episodes(
     cfg: EvalCfg, policy: EvalPolicy, combos: list[Combination], results: ResultsFile
-) -> None:
-    """Every block of the protocol whose episodes the results file lacks, appended as each finishes."""
+) -> bool:
+    """Every block of the protocol whose episodes the results file lacks, appended as each finishes, until
+    `piece_minutes` have passed; returns whether every block is in."""
     size = cfg.batch_size
     todo = [
         (k, combo, block)
@@ -230,7 +238,8 @@ def run_missing_episodes(
     finished = run_in_pool(
         partial(evaluate_item, cfg), todo, cfg.workers, partial(worker_policy, cfg.policy), local_state=policy
     )
-    for (k, combo, block), records in finished:
+    deadline = time.monotonic() + 60 * cfg.piece_minutes if cfg.piece_minutes > 0 else float("inf")
+    for n, ((k, combo, block), records) in enumerate(finished, start=1):
         results.append(records)
         rate = sum(r["success"] for r in records) / len(records)
         print(
@@ -238,6 +247,11 @@ def run_missing_episodes(
             f"{progress.advance(size)}",
             flush=True,
         )
+        if time.monotonic() > deadline and n < len(todo):
+            finished.close()  # stops the workers; their unfinished blocks are run by the next call
+            print(f"piece_minutes reached with {len(todo) - n} blocks left: a rerun resumes", flush=True)
+            return False
+    return True
 
 
 @hydra.main(config_path="../../conf", config_name="eval", version_base="1.3")

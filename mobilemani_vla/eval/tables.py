@@ -25,7 +25,7 @@ from matplotlib.figure import Figure  # the object API: no pyplot backend to sel
 
 from mobilemani_rl.assets.objects import CATEGORIES, catalog_ids
 from mobilemani_rl.utils.cli import entry_point
-from mobilemani_rl.utils.io import check_writable
+from mobilemani_rl.utils.io import check_writable, read_json
 from mobilemani_rl.utils.table_format import Table, pct
 from mobilemani_vla.config import CAMERAS, STATES
 from mobilemani_vla.eval.results import SKILL_GROUPS, finished, read_records, summarize
@@ -80,6 +80,8 @@ STATE_ABLATION = [
     ("ablation_state_grasp_point", CAMERAS, STATES[:2], 32.3),
     ("ablation_state_goal_point", CAMERAS, STATES, 36.6),
 ]
+# Our side of a one-number row: the success (mean over objects), its interval over the pooled episodes.
+RATE_COLUMNS = ("Success", "95% CI", "Episodes")
 # Seen/unseen rows: split file, label, paper success.
 SPLITS = [
     ("train_objects_train_scenes", "seen objects, seen scenes", 59.6),
@@ -121,15 +123,50 @@ class RecordingResults(dict):
 
 
 def load(root: Path) -> RecordingResults:
-    """(robot, run, split) -> summary of that results file, and whether its evaluation ran to its end."""
+    """(robot, run, split) -> summary of that results file, whether its evaluation ran to its end, and the
+    training its policy holds as the evaluation recorded it (empty for untrained policies)."""
     loaded = {}
     for path in sorted(root.glob("*/*/*.jsonl")):
         records = read_records(path)
+        config = path.with_name("config.json")
         loaded[(path.parts[-3], path.parts[-2], path.stem)] = {
             **summarize(records),
             "finished": finished(path, records),
+            "training": read_json(config).get("policy_training", {}) if config.is_file() else {},
         }
     return RecordingResults(loaded)
+
+
+def training_note(run: str, training: dict) -> str:
+    """'g1/run: cpu model, 30,000 steps x 32 = 960,000 samples, from 4,326 episodes, at 64 px'; the parts the
+    evaluation recorded."""
+    parts = [f"{training['model']} model"] if "model" in training else []
+    if "steps" in training:
+        parts.append(
+            f"{training['steps']:,} steps x {training['batch_size']} = {training['samples']:,} samples"
+        )
+    if "train_episodes" in training:
+        parts.append(f"from {training['train_episodes']:,} episodes")
+    if training.get("image_size"):
+        parts.append(f"at {training['image_size'][0]} px")
+    return f"{run}: {', '.join(parts)}"
+
+
+def interval(summary: dict | None) -> str:
+    """The pooled episodes' 95% Wilson interval in percent, '-' where there is no result."""
+    if not summary or "overall" not in summary:
+        return "-"
+    low, high = summary["overall"]["ci95"]
+    return f"{100 * low:.1f}-{100 * high:.1f}"
+
+
+def episodes(summary: dict | None) -> str:
+    return str(summary["episodes"]) if summary and summary.get("episodes") else "-"
+
+
+def with_interval(summary: dict | None) -> list[str]:
+    """A run's overall success, its 95% interval and its episodes, beside the paper's one number."""
+    return [pct(rate(summary, "overall")), interval(summary), episodes(summary)]
 
 
 def rate(summary: dict | None, *path: str) -> float | None:
@@ -194,7 +231,7 @@ def ablation_table(results: dict, rows: list, caption: str) -> Table:
         [
             *(check(c in cams) for c in CAMERAS),
             *(check(s in states) for s in STATES),
-            pct(rate(results.get(("g1", run, PROTOCOL_SPLIT)), "overall")),
+            *with_interval(results.get(("g1", run, PROTOCOL_SPLIT))),
             num(paper),
         ]
         for run, cams, states, paper in rows
@@ -207,7 +244,7 @@ def ablation_table(results: dict, rows: list, caption: str) -> Table:
         "Wrist Pose",
         "Grasp Point",
         "Goal Point",
-        "Success",
+        *RATE_COLUMNS,
         "Paper",
     ]
     return Table(header, body, caption)
@@ -215,11 +252,10 @@ def ablation_table(results: dict, rows: list, caption: str) -> Table:
 
 def split_table(results: dict, run: str) -> Table:
     rows = [
-        [label, pct(rate(results.get(("g1", run, split)), "overall")), num(paper)]
-        for split, label, paper in SPLITS
+        [label, *with_interval(results.get(("g1", run, split))), num(paper)] for split, label, paper in SPLITS
     ]
     return Table(
-        ["Objects / scenes", "Success", "Paper"],
+        ["Objects / scenes", *RATE_COLUMNS, "Paper"],
         rows,
         f"Success rates (%) of run '{run}' (G1) on seen or unseen objects and scenes.",
     )
@@ -228,15 +264,15 @@ def split_table(results: dict, run: str) -> Table:
 def model_table(results: dict) -> Table:
     named = {run for _, run, _ in MODELS}
     rows = [
-        [label, pct(rate(results.get(("g1", run, PROTOCOL_SPLIT)), "overall")), num(paper)]
+        [label, *with_interval(results.get(("g1", run, PROTOCOL_SPLIT))), num(paper)]
         for label, run, paper in MODELS
     ]
     others = sorted(
         {run for robot, run, split in results if robot == "g1" and split == PROTOCOL_SPLIT} - named
     )
-    rows += [[run, pct(rate(results[("g1", run, PROTOCOL_SPLIT)], "overall")), "-"] for run in others]
+    rows += [[run, *with_interval(results.get(("g1", run, PROTOCOL_SPLIT))), "-"] for run in others]
     return Table(
-        ["Model", "Success", "Paper"],
+        ["Model", *RATE_COLUMNS, "Paper"],
         rows,
         "Policies on the G1 robot on unseen objects and scenes (our runs; paper models by run name).",
         separators=(len(MODELS),) if others else (),
@@ -316,17 +352,49 @@ def build_tables(results: RecordingResults, main_run: str, split_run: str) -> di
         "vla_seen_unseen": lambda: split_table(results, split_run),
         "vla_models": lambda: model_table(results),
     }
-    return {name: marking_unfinished(results, build) for name, build in builders.items()}
+    return {name: annotated(results, build) for name, build in builders.items()}
 
 
-def marking_unfinished(results: RecordingResults, build: Callable[[], Table]) -> Table:
-    """The table, its caption naming the results it used from evaluations that have not ended: their cells
-    count only the episodes run so far."""
+def annotated(results: RecordingResults, build: Callable[[], Table]) -> Table:
+    """The table, its caption stating the training scale of each trained run it shows, as its evaluation
+    recorded it, and naming the results it used from evaluations that have not ended (their cells count only
+    the episodes run so far)."""
     results.used.clear()
     table = build()
+    scales = {
+        f"{robot}/{run}": results[robot, run, split]["training"]
+        for robot, run, split in sorted(results.used)
+        if results[robot, run, split]["training"]
+    }
+    if scales:
+        table.caption += " Our runs: " + "; ".join(training_note(r, t) for r, t in scales.items()) + "."
     if unfinished := results.unfinished(results.used):
         table.caption += f" Unfinished evaluations: {unfinished}."
     return table
+
+
+def write_tables(root: Path, out: Path, main_run: str, split_run: str) -> None:
+    """Every table (Markdown, LaTeX, printed) and bar plot from the results under `root` into `out`, then
+    which results were found, which are unfinished and which the tables missed."""
+    check_writable(out, "--out")
+    results = load(root)
+    out.mkdir(parents=True, exist_ok=True)
+    for name, table in build_tables(results, main_run, split_run).items():
+        print(table.markdown())
+        (out / f"{name}.md").write_text(table.markdown())
+        (out / f"{name}.tex").write_text(table.latex())
+    for path in bar_plots(results, main_run, out):
+        print(f"wrote {path}")
+    print(f"results under {root}: {', '.join('/'.join(key) for key in sorted(results)) or 'none'}")
+    if unfinished := results.unfinished(set(results)):
+        print(f"unfinished evaluations (still running or stopped; rerun `make eval` to finish): {unfinished}")
+    if results.missing:
+        print(
+            "missing inputs (their cells show '-'; `make eval NAME=<run> [SPLIT=..]` writes "
+            "<robot>/<run>/<split>.jsonl, and --main / MAIN_RUN picks the run of the per-skill and "
+            "per-category tables):\n  "
+            + "\n  ".join(f"{root}/{'/'.join(key)}.jsonl" for key in sorted(results.missing))
+        )
 
 
 @entry_point
@@ -339,25 +407,7 @@ def main() -> None:
     parser.add_argument("--main", default="default", help="run of the per-skill and per-category tables")
     parser.add_argument("--split-run", default="ablation_image_all", help="run of the seen/unseen table")
     args = parser.parse_args()
-    check_writable(args.out, "--out")
-    results = load(args.root)
-    args.out.mkdir(parents=True, exist_ok=True)
-    for name, table in build_tables(results, args.main, args.split_run).items():
-        print(table.markdown())
-        (args.out / f"{name}.md").write_text(table.markdown())
-        (args.out / f"{name}.tex").write_text(table.latex())
-    for path in bar_plots(results, args.main, args.out):
-        print(f"wrote {path}")
-    print(f"results under {args.root}: {', '.join('/'.join(key) for key in sorted(results)) or 'none'}")
-    if unfinished := results.unfinished(set(results)):
-        print(f"unfinished evaluations (still running or stopped; rerun `make eval` to finish): {unfinished}")
-    if results.missing:
-        print(
-            "missing inputs (their cells show '-'; `make eval NAME=<run> [SPLIT=..]` writes "
-            "<robot>/<run>/<split>.jsonl, and --main / MAIN_RUN picks the run of the per-skill and "
-            "per-category tables):\n  "
-            + "\n  ".join(f"{args.root}/{'/'.join(key)}.jsonl" for key in sorted(results.missing))
-        )
+    write_tables(args.root, args.out, args.main, args.split_run)
 
 
 if __name__ == "__main__":

@@ -65,6 +65,7 @@ def test_lerobot_train_writes_a_checkpoint_our_harness_runs(checkpoint, tmp_path
     assert config["type"] == "mobilemanivla" and config["cameras"] == ["head_rgb", "wrist_rgb"]
     assert "open box" in config["tasks"] and config["vla_yaml"]
     policy = LeRobotEvalPolicy(checkpoint)
+    assert policy.training == {"model": "mobilemanivla", "steps": 2, "batch_size": 2, "samples": 4}
     n = 2
     obs = {
         k: np.zeros((n, HEIGHT, WIDTH, 3), np.uint8)

@@ -26,11 +26,11 @@ from mobilemani_rl.utils.config_store import to_dataclass
 from mobilemani_rl.utils.errors import ConfigMismatchError, InputError
 from mobilemani_vla.config import ROOT_ONLY, VLACfg
 from mobilemani_vla.data.synthetic import write_synthetic_dataset
-from mobilemani_vla.eval.config import EvalCfg
+from mobilemani_vla.eval.config import EvalCfg, compose_eval_cfg
 from mobilemani_vla.eval.evaluate import evaluate
 from mobilemani_vla.eval.harness import run_batch
 from mobilemani_vla.eval.policies.privileged import RandomPolicy, ScriptedEvalPolicy, TeacherEvalPolicy
-from mobilemani_vla.eval.results import ResultsFile, read_records, record_key
+from mobilemani_vla.eval.results import ResultsFile, finished, read_records, record_key, summary_path
 from mobilemani_vla.model.ensemble import AdaptiveEnsembler, ChunkExecutor, EnsembleCfg, ensemble_weights
 from mobilemani_vla.train import train as train_vla
 
@@ -189,7 +189,7 @@ def eval_cfg(tmp_path: Path, overrides: list[str]):
         f"output_dir={tmp_path}",
         "env.episode_length=40",
     ]
-    return to_dataclass(with_env_task(compose_cfg("eval", [*base, *overrides])), EvalCfg).check()
+    return compose_eval_cfg([*base, *overrides])
 
 
 def test_missing_teachers_are_named_before_anything_is_written(tmp_path):
@@ -311,6 +311,21 @@ def test_small_protocol_runs_as_written_and_reports_totals_and_eta(tmp_path, cap
         evaluate(changed)
 
 
+def test_an_evaluation_stopped_by_its_minutes_looks_unfinished_and_a_rerun_completes_it(tmp_path, capsys):
+    """piece_minutes: no block starts after the budget; the results so far stay resumable, without the
+    summary that marks a finished run, and the same command runs the rest."""
+    cfg = eval_cfg(
+        tmp_path, ["eval/policy=random", "subset.episodes=4", "env.episode_length=8", "piece_minutes=1e-6"]
+    )
+    results = tmp_path / "g1" / "default" / "test_objects_test_scenes.jsonl"
+    evaluate(cfg)  # 4 episodes in blocks of 2: the first block ends past the budget
+    assert len(read_records(results)) == 2 and not summary_path(results).exists()
+    assert "piece_minutes reached with 1 blocks left: a rerun resumes" in capsys.readouterr().out
+    cfg.piece_minutes = 0
+    summary = evaluate(cfg)
+    assert summary["episodes"] == 4 and finished(results, read_records(results))
+
+
 def test_tiny_vla_runs_the_protocol_end_to_end(tmp_path):
     root = write_synthetic_dataset(tmp_path / "data", episodes=2, length=20)
     vla_cfg = to_dataclass(
@@ -345,6 +360,9 @@ def test_tiny_vla_runs_the_protocol_end_to_end(tmp_path):
     assert summary["overall"]["episodes"] == 2
     config = json.loads((run / "config.json").read_text())
     assert "observation.images.wrist_depth" in config["policy_inputs"]
+    training = config["policy_training"]  # what the tables' captions state of the run
+    assert (training["model"], training["steps"], training["samples"]) == ("tiny", 2, 4)
+    assert training["image_size"] == [48, 64] and training["train_episodes"] >= 1
     assert len(list((run / "videos").rglob("*.mp4"))) == 1
     assert summary["nan_action_entries"] == 0 and all(r["nan_actions"] == 0 for r in records)
     # A g1 checkpoint on xhand stops before anything is written (7-d actions for an 18-d robot).

@@ -71,23 +71,57 @@ def test_tables_and_plots_from_results(tmp_path):
     assert "| Holistic | 18 | - | - | - | - | 28.8 | 40.2 | - | - |" in category
     image = tables["vla_ablation_image"].markdown()
     assert (
-        "| x | x | x | x | x |  |  | 50.0 | 28.2 |" in image and "| x |  |  |  | x |  |  | - | 7.9 |" in image
+        "| x | x | x | x | x |  |  | 50.0 | 9.5-90.5 | 2 | 28.2 |" in image
+        and "| x |  |  |  | x |  |  | - | - | - | 7.9 |" in image
     )
     # cameras all on
-    assert "|  |  |  |  |  |  |  | - | 22.4 |" not in tables["vla_ablation_state"].markdown()
+    assert "|  |  |  |  |  |  |  | - | - | - | 22.4 |" not in tables["vla_ablation_state"].markdown()
     splits = tables["vla_seen_unseen"].markdown()
     assert (
-        "| seen objects, seen scenes | 100.0 | 59.6 |" in splits
-        and "| seen objects, unseen scenes | - | 51.3 |" in splits
+        "| seen objects, seen scenes | 100.0 | 34.2-100.0 | 2 | 59.6 |" in splits
+        and "| seen objects, unseen scenes | - | - | - | 51.3 |" in splits
     )
     models = tables["vla_models"].markdown()
-    assert "| MobileManiVLA | 50.0 | 28.2 |" in models and "| lerobot_act | 0.0 | - |" in models
+    assert "| MobileManiVLA | 50.0 | 9.5-90.5 | 2 | 28.2 |" in models
+    assert "| lerobot_act | 0.0 | 0.0-79.3 | 1 | - |" in models
     latex = tables["vla_by_skill"].latex()
     assert r"\toprule" in latex and "Open & 50.0 & - & 42.9 & 34.5" in latex
 
     paths = bar_plots(results, "default", tmp_path)
     assert [p.name for p in paths] == ["vla_by_category.png", "vla_by_skill.png"]
     assert all(p.stat().st_size > 10_000 for p in paths)
+
+
+def test_captions_state_the_training_scale_each_evaluation_recorded(tmp_path):
+    """A table's caption states how much training each trained run it shows holds, as its evaluation wrote it
+    to the run's config.json; untrained policies (scripted, teachers) record none and are not named."""
+    root = tmp_path / "eval"
+    outcomes = {("laptop/0030", "open", "tabletop/16"): [True, False]}
+    for run, training in (
+        (
+            "ablation_image_all",
+            {
+                "model": "cpu",
+                "steps": 30000,
+                "batch_size": 32,
+                "samples": 960000,
+                "train_episodes": 4326,
+                "image_size": [64, 64],
+            },
+        ),
+        ("lerobot_act", {"model": "act", "steps": 5000, "batch_size": 8, "samples": 40000}),
+        ("scripted", {}),
+    ):
+        write_run(root, "g1", run, PROTOCOL_SPLIT, outcomes)
+        (root / "g1" / run / "config.json").write_text(json.dumps({"policy_training": training}))
+    tables = build_tables(load(root), "default", "ablation_image_all")
+    main = (
+        "g1/ablation_image_all: cpu model, 30,000 steps x 32 = 960,000 samples, from 4,326 episodes, at 64 px"
+    )
+    assert tables["vla_ablation_image"].caption.endswith(f"Our runs: {main}.")
+    models = tables["vla_models"].caption
+    assert main in models and "g1/lerobot_act: act model, 5,000 steps x 8 = 40,000 samples" in models
+    assert "scripted:" not in models and "Our runs" not in tables["vla_by_skill"].caption
 
 
 def test_tables_name_the_results_they_miss(tmp_path, monkeypatch, capsys):
@@ -100,7 +134,10 @@ def test_tables_name_the_results_they_miss(tmp_path, monkeypatch, capsys):
     )
     vla_tables.main()
     out = capsys.readouterr().out
-    assert f"results under {root}: g1/vla_open/{PROTOCOL_SPLIT}" in out and "| vla_open | 50.0 | - |" in out
+    assert (
+        f"results under {root}: g1/vla_open/{PROTOCOL_SPLIT}" in out
+        and "| vla_open | 50.0 | 9.5-90.5 | 2 | - |" in out
+    )
     missing = out.split("missing inputs")[1]
     assert f"{root}/g1/default/{PROTOCOL_SPLIT}.jsonl" in missing
     assert f"{root}/xhand/default/{PROTOCOL_SPLIT}.jsonl" in missing
@@ -120,7 +157,8 @@ def test_tables_mark_what_they_count_from_unfinished_evaluations(tmp_path, monke
     note = f"Unfinished evaluations: g1/default/{PROTOCOL_SPLIT} (3 episodes so far).**"
     assert "| Open | 33.3 | 33.3 |" in tables["vla_by_skill"].markdown()
     assert note in tables["vla_by_skill"].markdown() and note in tables["vla_by_category"].markdown()
-    assert "Unfinished" not in tables["vla_models"].markdown()  # it shows lerobot_act, not default
+    assert note in tables["vla_models"].markdown()  # default's row among the other runs
+    assert "Unfinished" not in tables["vla_seen_unseen"].markdown()  # ablation_image_all's, not default's
     # a finished run that a later, larger protocol is growing: its summary counts fewer episodes
     summary_path(running).write_text(json.dumps(summarize(read_records(running)[:2])))
     assert "Unfinished" in build_tables(load(root), "default", "x")["vla_by_skill"].caption

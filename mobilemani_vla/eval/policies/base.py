@@ -34,6 +34,9 @@ class EvalPolicy:
     )
     action_dim: int | None = None  # width of the actions it predicts, if fixed (a trained checkpoint's)
     chunk_length: int | None = None  # actions per predicted chunk, if known before the first prediction
+    # How much training the policy holds (a trained checkpoint's steps, samples, episodes), recorded with its
+    # results so that a table can state the scale of the run it reports
+    training: dict | None = None
 
     def check_tasks(self, tasks: set[tuple[str, str, str]]) -> dict[str, str]:
         """Before anything runs or is written: stop with one error when a (robot, object, skill) task of the

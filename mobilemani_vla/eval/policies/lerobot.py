@@ -24,6 +24,7 @@ import torch.nn.functional as F
 from mobilemani_data import schema
 from mobilemani_rl.envs.mobilemani_env import MobileManiEnv
 from mobilemani_rl.utils.errors import MissingFileError
+from mobilemani_rl.utils.io import read_json
 from mobilemani_vla.eval.policies.base import TASK, EvalPolicy, Observation, active_rows, scatter_rows
 
 
@@ -80,6 +81,7 @@ class LeRobotEvalPolicy(EvalPolicy):
         self.action_dim = int(config.output_features[schema.ACTION].shape[0])
         self.inputs = frozenset(self.features) | {TASK}
         self.windowed = config.observation_delta_indices is not None
+        self.training = lerobot_training_scale(path, config.type)
         visual = [shape for _, shape in self.features.values() if len(shape) == 3]
         if visual:  # render as the training dataset was rendered: (C, H, W) of its first image feature
             self.image_size = visual[0][1:]
@@ -115,3 +117,17 @@ class LeRobotEvalPolicy(EvalPolicy):
                 chunk = self.policy.predict_action_chunk(self.pre(self._batch(obs, part)))
                 chunks.append(self.post(chunk).cpu().numpy())
         return scatter_rows(rows, np.concatenate(chunks), len(obs[TASK]))
+
+
+def lerobot_training_scale(pretrained: Path, policy_type: str) -> dict:
+    """How much training a `lerobot-train` checkpoint holds, from the step it records beside
+    `pretrained_model` and its training config's batch (per process); only the policy type where the step is
+    not there (a pretrained_model copied on its own)."""
+    state = pretrained.parent / "training_state" / "training_step.json"
+    if not state.is_file():
+        return {"model": policy_type}
+    recorded = read_json(state)
+    per_process = recorded.get("batch_size") or read_json(pretrained / "train_config.json")["batch_size"]
+    batch = per_process * (recorded.get("num_processes") or 1)
+    step = recorded["step"]
+    return {"model": policy_type, "steps": step, "batch_size": batch, "samples": step * batch}

@@ -12,7 +12,7 @@ from mobilemani_data import schema
 from mobilemani_rl.envs.mobilemani_env import MobileManiEnv
 from mobilemani_rl.utils.errors import InputError
 from mobilemani_rl.utils.rotations import quat_apply, quat_conj
-from mobilemani_vla.checkpoint import recorded_image_size
+from mobilemani_vla.checkpoint import recorded_image_size, training_scale
 from mobilemani_vla.eval.policies.base import TASK, EvalPolicy, Observation, active_rows, scatter_rows
 from mobilemani_vla.inference import VLAPolicy
 from mobilemani_vla.model.processor import camera_key
@@ -48,6 +48,7 @@ class VLAEvalPolicy(EvalPolicy):
             )
         self.null_image = null_image
         self.image_size = recorded_image_size(checkpoint)  # render as the training data was rendered
+        self.training = training_scale(checkpoint, self.policy.cfg)
         self.batch_size = batch_size
         self.action_dim = self.policy.cfg.action_dim
         self.chunk_length = self.policy.cfg.diffusion.chunk

@@ -1,0 +1,185 @@
+"""The paper's VLA ablation study (Section 4.2) at one scale, as one resumable command:
+
+    python -m mobilemani_vla.ablation_study [--scale cpu|paper] [--minutes 150] [--rows ROW ...]
+        [--episodes 2] [--workers 2] [--train OVERRIDE ...] [--eval OVERRIDE ...] [--tables DIR]
+    make ablation [ABLATION_ARGS="--minutes 120"]
+
+Each call does the study's next unfinished work, in order, until all of it is done or `--minutes` are spent:
+a row's training (`python -m mobilemani_vla.train +experiment=<row>` with the scale's overrides and then
+`--train`'s, in a piece that ends before the deadline), then its closed-loop evaluation
+(`python -m mobilemani_vla.eval.evaluate eval/protocol=ablation name=<row>`, `--episodes` per combination,
+then `--eval`'s overrides). The order follows what each table needs first: the main row on unseen objects in
+unseen scenes, the image rows that answer whether depth helps, the main row on the three other object x scene
+splits, the state rows, the last image row. Training and evaluation resume where a call stopped, so rerunning
+the same command continues the study; a training piece starts only with `MIN_PIECE_MINUTES` left. Every call
+ends by writing the paper's VLA tables (`make tables`' `vla/`) from every result so far.
+
+Scales: `cpu` adds `vla/model=cpu vla/train=ablation_cpu` (2 CPU cores; docs/results/ablation.md); `paper`
+keeps the experiments' own settings (PaliGemma-2 3B, 160K steps at batch 120: a GPU job). The seen splits are
+subsampled to about the size of the unseen one (264 combinations): each seen object in the first of its
+training rooms (272 combinations), each unseen object in the first four (264).
+"""
+
+from __future__ import annotations
+
+import argparse
+import time
+from dataclasses import dataclass
+from pathlib import Path
+
+from mobilemani_rl.utils.cli import entry_point
+from mobilemani_rl.utils.errors import InputError
+from mobilemani_rl.utils.io import check_writable
+from mobilemani_vla.checkpoint import checkpoint_dir
+from mobilemani_vla.config import VLACfg, compose_vla_cfg
+from mobilemani_vla.eval.config import EvalCfg, compose_eval_cfg
+from mobilemani_vla.eval.evaluate import evaluate, run_dir
+from mobilemani_vla.eval.results import finished, read_records
+from mobilemani_vla.eval.tables import write_tables
+from mobilemani_vla.train import train
+
+MAIN_ROW = "ablation_image_all"
+SCALES = {"cpu": ["vla/model=cpu", "vla/train=ablation_cpu"], "paper": []}
+# Each split's subset overrides: the seen ones subsampled to about the unseen one's 264 combinations.
+SPLITS = {
+    "unseen_unseen": [],
+    "seen_seen": ["subset.scenes_per_object=1"],
+    "seen_unseen": ["subset.scenes_per_object=1"],
+    "unseen_seen": ["subset.scenes_per_object=4"],
+}
+# (row, the splits it is evaluated on), in the order the study runs them.
+JOBS = [
+    (MAIN_ROW, ["unseen_unseen"]),
+    ("ablation_image_head_rgbd", ["unseen_unseen"]),
+    ("ablation_image_head_rgb", ["unseen_unseen"]),
+    (MAIN_ROW, ["seen_seen", "seen_unseen", "unseen_seen"]),
+    ("ablation_state_none", ["unseen_unseen"]),
+    ("ablation_state_grasp_point", ["unseen_unseen"]),
+    ("ablation_state_goal_point", ["unseen_unseen"]),
+    ("ablation_image_head_wrist_rgb", ["unseen_unseen"]),
+]
+ROWS = list(dict.fromkeys(row for row, _ in JOBS))
+MIN_PIECE_MINUTES = 5.0
+# What a training call spends outside its piece: loading the data and the model, the closing diagnostics and
+# checkpoint.
+TRAIN_OVERHEAD_MINUTES = 3.0
+
+
+@dataclass
+class Budget:
+    deadline: float  # time.monotonic() at which the call's minutes are spent
+
+    @classmethod
+    def of(cls, minutes: float) -> Budget:
+        return cls(time.monotonic() + 60 * minutes)
+
+    def minutes_left(self) -> float:
+        return (self.deadline - time.monotonic()) / 60
+
+
+def row_training(row: str, overrides: list[str]) -> VLACfg:
+    return compose_vla_cfg([f"+experiment={row}", *overrides])
+
+
+def final_checkpoint(cfg: VLACfg) -> Path:
+    return checkpoint_dir(Path(cfg.train.output_dir), cfg.train.steps)
+
+
+def split_evaluation(row: str, split: str, checkpoint: Path, args: argparse.Namespace) -> EvalCfg:
+    return compose_eval_cfg(
+        [
+            "eval/protocol=ablation",
+            f"eval/split={split}",
+            *SPLITS[split],
+            f"name={row}",
+            f"policy.checkpoint={checkpoint}",
+            f"subset.episodes={args.episodes}",
+            f"workers={args.workers}",
+            *args.eval,
+        ]
+    )
+
+
+def evaluated(cfg: EvalCfg) -> bool:
+    path = run_dir(cfg) / f"{cfg.split_name}.jsonl"
+    return finished(path, read_records(path))
+
+
+def train_row(cfg: VLACfg, budget: Budget) -> bool:
+    """Train the row until its last step or the budget; returns whether its last checkpoint exists."""
+    if final_checkpoint(cfg).is_dir():
+        return True
+    piece = budget.minutes_left() - TRAIN_OVERHEAD_MINUTES
+    if piece < MIN_PIECE_MINUTES:
+        return False
+    limit = cfg.train.piece_minutes
+    cfg.train.piece_minutes = piece if limit <= 0 else min(limit, piece)
+    print(
+        f"== {cfg.name}: training to step {cfg.train.steps} (this piece: {cfg.train.piece_minutes:.0f} min)"
+    )
+    train(cfg)
+    return final_checkpoint(cfg).is_dir()
+
+
+def evaluate_split(cfg: EvalCfg, budget: Budget) -> bool:
+    """Evaluate one split until its last episode or the budget; returns whether it is complete."""
+    if evaluated(cfg):
+        return True
+    if (left := budget.minutes_left()) < 1:
+        return False
+    cfg.piece_minutes = left
+    print(f"== {cfg.name}: evaluating on {cfg.split_name}")
+    evaluate(cfg)
+    return evaluated(cfg)
+
+
+def run_study(args: argparse.Namespace) -> bool:
+    """The study's unfinished jobs among `args.rows`, in order, within `args.minutes`; returns whether every
+    one of them is done."""
+    budget = Budget.of(args.minutes)
+    overrides = [*SCALES[args.scale], *args.train]
+    trainings = {row: row_training(row, overrides) for row in args.rows}  # every config checked up front
+    for row, splits in JOBS:
+        if row not in trainings:
+            continue
+        if not train_row(trainings[row], budget):
+            return False
+        checkpoint = final_checkpoint(trainings[row])
+        for split in splits:
+            if not evaluate_split(split_evaluation(row, split, checkpoint, args), budget):
+                return False
+    return True
+
+
+@entry_point
+def main() -> None:
+    parser = argparse.ArgumentParser(
+        description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter
+    )
+    parser.add_argument("--scale", choices=sorted(SCALES), default="cpu")
+    parser.add_argument("--minutes", type=float, default=150.0, help="this call's time budget")
+    parser.add_argument(
+        "--rows", nargs="+", default=ROWS, help=f"rows to run (default all: {' '.join(ROWS)})"
+    )
+    parser.add_argument("--episodes", type=int, default=2, help="evaluation episodes per combination")
+    parser.add_argument("--workers", type=int, default=2, help="evaluation worker processes")
+    parser.add_argument("--train", nargs="*", default=[], help="more training overrides (every row)")
+    parser.add_argument("--eval", nargs="*", default=[], help="more evaluation overrides (every split)")
+    parser.add_argument("--tables", type=Path, default=Path("outputs/tables/vla"), help="where tables go")
+    args = parser.parse_args()
+    if unknown := sorted(set(args.rows) - set(ROWS)):
+        raise InputError(f"--rows: unknown {', '.join(unknown)}; choose among {', '.join(ROWS)}")
+    if args.minutes <= 0 or args.episodes < 1:
+        raise InputError("--minutes must be > 0 and --episodes >= 1")
+    check_writable(args.tables, "--tables")
+    complete = run_study(args)
+    results = Path(compose_eval_cfg(args.eval).output_dir)
+    write_tables(results, args.tables, MAIN_ROW, MAIN_ROW)
+    if complete:
+        print(f"the study's rows {', '.join(args.rows)} are trained and evaluated")
+    else:
+        print(f"--minutes {args.minutes:g} spent: the same command continues the study")
+
+
+if __name__ == "__main__":
+    main()

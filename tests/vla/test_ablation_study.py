@@ -1,0 +1,99 @@
+"""The ablation study as one resumable command: rows trained and evaluated in order within a time budget,
+then the paper's tables."""
+
+import sys
+
+import pytest
+
+from mobilemani_rl.utils.errors import InputError
+from mobilemani_vla import ablation_study
+from mobilemani_vla.data.synthetic import write_synthetic_dataset
+from mobilemani_vla.eval.results import finished, read_records
+
+SPLIT_FILES = {
+    "unseen_unseen": "test_objects_test_scenes",
+    "seen_seen": "train_objects_train_scenes",
+    "seen_unseen": "train_objects_test_scenes",
+    "unseen_seen": "test_objects_train_scenes",
+}
+
+
+def run_study(monkeypatch, tmp_path, *extra: str) -> None:
+    """Two rows with the tiny model on a synthetic dataset, each split evaluated on the first laptop object
+    of its object split (opened), one 8-step episode per combination."""
+    data = tmp_path / "data"
+    if not data.exists():
+        write_synthetic_dataset(data, episodes=2, length=20)
+    train = [
+        "vla/model=tiny",
+        "vla/train=cpu",
+        f"data.root={data}",
+        "data.repo_id=synthetic/g1",
+        "data.heldout_episodes=1",
+        f"train.output_dir={tmp_path}/vla/${{name}}",
+        "train.logger=none",
+        "train.progress=false",
+        "train.batch_size=2",
+        "train.steps=2",
+        "train.diagnose_every=0",
+    ]
+    evaluation = [
+        "subset.categories=[laptop]",
+        "subset.skills=[open]",
+        "subset.objects_per_category=1",
+        "env.episode_length=8",
+        f"output_dir={tmp_path}/eval",
+    ]
+    argv = ["ablation_study", "--scale", "paper", "--rows", "ablation_image_all", "ablation_image_head_rgb"]
+    argv += ["--episodes", "1", "--workers", "1", "--tables", str(tmp_path / "tables"), *extra]
+    monkeypatch.setattr(sys, "argv", [*argv, "--train", *train, "--eval", *evaluation])
+    ablation_study.main()
+
+
+def test_the_study_trains_and_evaluates_its_rows_in_order_and_a_rerun_has_nothing_left(
+    tmp_path, monkeypatch, capsys
+):
+    # Too few minutes for a training piece: nothing trains, the tables still show what there is.
+    run_study(monkeypatch, tmp_path, "--minutes", "1")
+    out = capsys.readouterr().out
+    assert "== " not in out and "--minutes 1 spent: the same command continues the study" in out
+    assert not (tmp_path / "vla").exists() and (tmp_path / "tables" / "vla_ablation_image.md").is_file()
+
+    run_study(monkeypatch, tmp_path, "--minutes", "60")
+    out = capsys.readouterr().out
+    # the order of the work, each training piece's minutes (what the budget leaves) cut off
+    order = [line.split(" (this piece")[0] for line in out.splitlines() if line.startswith("== ")]
+    assert order == [
+        "== ablation_image_all: training to step 2",
+        "== ablation_image_all: evaluating on test_objects_test_scenes",
+        "== ablation_image_head_rgb: training to step 2",
+        "== ablation_image_head_rgb: evaluating on test_objects_test_scenes",
+        "== ablation_image_all: evaluating on train_objects_train_scenes",
+        "== ablation_image_all: evaluating on train_objects_test_scenes",
+        "== ablation_image_all: evaluating on test_objects_train_scenes",
+    ]
+    assert "the study's rows ablation_image_all, ablation_image_head_rgb are trained and evaluated" in out
+    # Each split file complete: seen objects in one room of their split, unseen objects in the four test rooms
+    # or the first four training rooms.
+    episodes = {"unseen_unseen": 4, "seen_seen": 1, "seen_unseen": 1, "unseen_seen": 4}
+    for split, count in episodes.items():
+        path = tmp_path / "eval" / "g1" / "ablation_image_all" / f"{SPLIT_FILES[split]}.jsonl"
+        records = read_records(path)
+        assert len(records) == count and finished(path, records), split
+    seen = read_records(tmp_path / "eval/g1/ablation_image_all/train_objects_train_scenes.jsonl")
+    assert [(r["object_id"], r["scene"]) for r in seen] == [("laptop/0000", seen[0]["scene"])]
+    image = (tmp_path / "tables" / "vla_ablation_image.md").read_text()
+    assert "Our runs: g1/ablation_image_all: tiny model, 2 steps x 2 = 4 samples" in image
+    assert "g1/ablation_image_head_rgb: tiny model" in image and "| 4 | 7.9 |" in image
+
+    run_study(monkeypatch, tmp_path, "--minutes", "60")  # everything done: nothing trains or runs again
+    out = capsys.readouterr().out
+    assert "== " not in out and "are trained and evaluated" in out
+
+
+def test_an_unknown_row_is_named_before_anything_runs(tmp_path, monkeypatch):
+    tables = tmp_path / "tables"
+    monkeypatch.setattr(sys, "argv", ["ablation_study", "--rows", "ablation_depth", "--tables", str(tables)])
+    with pytest.raises(InputError, match="--rows: unknown ablation_depth; choose among ablation_image_all, "):
+        ablation_study.main.__wrapped__()
+    assert not tables.exists()
