@@ -28,10 +28,11 @@ from dataclasses import dataclass
 from pathlib import Path
 
 from mobilemani_rl.utils.cli import entry_point
-from mobilemani_rl.utils.errors import InputError
+from mobilemani_rl.utils.errors import InputError, MissingFileError
 from mobilemani_rl.utils.io import check_writable
 from mobilemani_vla.checkpoint import checkpoint_dir
 from mobilemani_vla.config import VLACfg, compose_vla_cfg
+from mobilemani_vla.data.dataset import open_metadata
 from mobilemani_vla.eval.config import EvalCfg, compose_eval_cfg
 from mobilemani_vla.eval.evaluate import evaluate, run_dir
 from mobilemani_vla.eval.results import finished, read_records
@@ -133,12 +134,27 @@ def evaluate_split(cfg: EvalCfg, budget: Budget) -> bool:
     return evaluated(cfg)
 
 
+def check_training_data(trainings: dict[str, VLACfg]) -> None:
+    """Before anything runs: the dataset of every row still to train exists and has the row's inputs."""
+    for cfg in trainings.values():
+        if final_checkpoint(cfg).is_dir():
+            continue
+        if not (Path(cfg.data.root) / "meta").is_dir():
+            raise MissingFileError(
+                f"no ablation dataset at {cfg.data.root} (data.root): make it with `make data ROBOT=g1 "
+                'PRESET=ablation DATA_ARGS="data_dir=outputs/data/ablation"` (docs/usage.md, "The ablation '
+                'dataset") or name another with --train data.root=<dir>'
+            )
+        open_metadata(cfg)
+
+
 def run_study(args: argparse.Namespace) -> bool:
     """The study's unfinished jobs among `args.rows`, in order, within `args.minutes`; returns whether every
     one of them is done."""
     budget = Budget.of(args.minutes)
     overrides = [*SCALES[args.scale], *args.train]
     trainings = {row: row_training(row, overrides) for row in args.rows}  # every config checked up front
+    check_training_data(trainings)
     for row, splits in JOBS:
         if row not in trainings:
             continue

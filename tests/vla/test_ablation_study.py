@@ -5,7 +5,7 @@ import sys
 
 import pytest
 
-from mobilemani_rl.utils.errors import InputError
+from mobilemani_rl.utils.errors import InputError, MissingFileError
 from mobilemani_vla import ablation_study
 from mobilemani_vla.data.synthetic import write_synthetic_dataset
 from mobilemani_vla.eval.results import finished, read_records
@@ -89,6 +89,17 @@ def test_the_study_trains_and_evaluates_its_rows_in_order_and_a_rerun_has_nothin
     run_study(monkeypatch, tmp_path, "--minutes", "60")  # everything done: nothing trains or runs again
     out = capsys.readouterr().out
     assert "== " not in out and "are trained and evaluated" in out
+
+
+def test_a_missing_dataset_is_named_before_anything_runs(tmp_path, monkeypatch):
+    tables = tmp_path / "tables"
+    argv = ["ablation_study", "--tables", str(tables), "--train", f"data.root={tmp_path / 'none'}"]
+    monkeypatch.setattr(sys, "argv", argv)
+    with pytest.raises(
+        MissingFileError, match=f"no ablation dataset at {tmp_path / 'none'} .data.root.: make it"
+    ):
+        ablation_study.main.__wrapped__()
+    assert not tables.exists() and list(tmp_path.iterdir()) == []
 
 
 def test_an_unknown_row_is_named_before_anything_runs(tmp_path, monkeypatch):
