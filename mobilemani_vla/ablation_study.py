@@ -153,17 +153,19 @@ def run_study(args: argparse.Namespace) -> bool:
     one of them is done."""
     budget = Budget.of(args.minutes)
     overrides = [*SCALES[args.scale], *args.train]
-    trainings = {row: row_training(row, overrides) for row in args.rows}  # every config checked up front
+    # every config composed and checked before anything runs
+    trainings = {row: row_training(row, overrides) for row in args.rows}
+    jobs = [
+        (trainings[row], [split_evaluation(row, s, final_checkpoint(trainings[row]), args) for s in splits])
+        for row, splits in JOBS
+        if row in trainings
+    ]
     check_training_data(trainings)
-    for row, splits in JOBS:
-        if row not in trainings:
-            continue
-        if not train_row(trainings[row], budget):
+    for training, evaluations in jobs:
+        if not train_row(training, budget):
             return False
-        checkpoint = final_checkpoint(trainings[row])
-        for split in splits:
-            if not evaluate_split(split_evaluation(row, split, checkpoint, args), budget):
-                return False
+        if not all(evaluate_split(cfg, budget) for cfg in evaluations):  # stops at the first unfinished
+            return False
     return True
 
 

@@ -108,3 +108,9 @@ def test_an_unknown_row_is_named_before_anything_runs(tmp_path, monkeypatch):
     with pytest.raises(InputError, match="--rows: unknown ablation_depth; choose among ablation_image_all, "):
         ablation_study.main.__wrapped__()
     assert not tables.exists()
+    # an evaluation override is checked with the rest, not hours later when the first evaluation starts
+    argv = ["ablation_study", "--tables", str(tables), "--train", f"data.root={tmp_path / 'none'}"]
+    monkeypatch.setattr(sys, "argv", [*argv, "--eval", "episodes_per_batch=0"])
+    with pytest.raises(InputError, match="episodes_per_batch"):
+        ablation_study.main.__wrapped__()
+    assert list(tmp_path.iterdir()) == []
