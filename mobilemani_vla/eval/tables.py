@@ -7,8 +7,10 @@ Reads <root>/<robot>/<run>/<split>.jsonl written by `python -m mobilemani_vla.ev
 per category (run `--main`, unseen objects x unseen scenes), the image- and state-input ablations (runs named
 like conf/experiment/ablation_*), seen/unseen objects x scenes (run `--split-run`, its four split files) and
 the model comparison (runs named in MODELS, then every other run), plus PNG bar plots. Paper numbers sit
-beside ours; a '-' marks a result not evaluated yet, and the results files those cells wanted are listed at
-the end; `--out` is checked for writability before any result is read. A table that counts a results file
+beside ours, a one-number row's with its 95% interval and episode count, and each caption states the training
+scale of the runs it shows, as their evaluations recorded it; a '-' marks a result not evaluated yet, and the
+results files those cells wanted are listed at the end; `--out` is checked for writability before any result
+is read. A table that counts a results file
 whose evaluation has not ended (running or stopped: no summary of all its records) names it in its caption,
 with its episodes so far.
 """
@@ -160,13 +162,13 @@ def interval(summary: dict | None) -> str:
     return f"{100 * low:.1f}-{100 * high:.1f}"
 
 
-def episodes(summary: dict | None) -> str:
+def episode_count(summary: dict | None) -> str:
     return str(summary["episodes"]) if summary and summary.get("episodes") else "-"
 
 
 def with_interval(summary: dict | None) -> list[str]:
     """A run's overall success, its 95% interval and its episodes, beside the paper's one number."""
-    return [pct(rate(summary, "overall")), interval(summary), episodes(summary)]
+    return [pct(rate(summary, "overall")), interval(summary), episode_count(summary)]
 
 
 def rate(summary: dict | None, *path: str) -> float | None:
