@@ -209,19 +209,9 @@ LEROBOT_STEPS ?= 2000
 LEROBOT_BATCH ?= 16
 LEROBOT_OUT ?= outputs/lerobot/$(ROBOT)/$(LEROBOT_POLICY)
 LEROBOT_ARGS ?=
-# Our chunk is 16 steps at 30 Hz; single observation steps (the harness gives no history); images stay uncropped.
-# Diffusion Policy is sized for a CPU (LeRobot's default U-Net and its 100 denoising steps per action chunk are a
-# GPU's): override with LEROBOT_ARGS on a GPU.
-LEROBOT_FLAGS_act = --policy.pretrained_backbone_weights=null --policy.chunk_size=16 --policy.n_action_steps=16
-LEROBOT_FLAGS_diffusion = --policy.pretrained_backbone_weights=null --policy.n_obs_steps=1 --policy.horizon=16 \
-	--policy.n_action_steps=8 --policy.crop_shape=null --policy.down_dims=[128,256,512] --policy.num_inference_steps=10
-# SmolVLA is trained whole from scratch (VLM and action expert): its SmolVLM backbone is an untrained local directory
-# (config and byte-level tokenizer, `python -m mobilemani_vla.smolvla_backbone`, written once, before training; its
-# checkpoints name it, so keep it where it is), sized for a CPU: 128 px images.
-SMOLVLM ?= $(abspath outputs/lerobot/smolvlm)
-LEROBOT_FLAGS_smolvla = --policy.vlm_model_name=$(SMOLVLM) --policy.load_vlm_weights=false \
-	--policy.resize_imgs_with_padding=[128,128] --policy.train_expert_only=false --policy.freeze_vision_encoder=false \
-	--policy.chunk_size=16 --policy.n_action_steps=16
+# The project's CPU settings for each policy type (chunk, sizes, no downloads; SmolVLA from scratch on an untrained
+# local SmolVLM backbone, written on first use): `--preset=cpu`, mobilemani_vla/lerobot_presets.py. LEROBOT_ARGS
+# flags replace the preset's (e.g. sizes for a GPU).
 LEROBOT_LAST = $(LEROBOT_OUT)/checkpoints/last
 LEROBOT_TRAIN = HF_HUB_OFFLINE=1 $(PY) -m mobilemani_vla.lerobot_train
 # Rerunning continues (mobilemani_vla.lerobot_train): a finished run is skipped, an interrupted one resumes from
@@ -230,12 +220,9 @@ LEROBOT_TRAIN = HF_HUB_OFFLINE=1 $(PY) -m mobilemani_vla.lerobot_train
 # `last` links to, so results of a run trained on are not mixed with its earlier checkpoint's (it refuses them).
 .PHONY: lerobot
 lerobot: setup
-	$(if $(filter smolvla,$(LEROBOT_POLICY)),test -f $(SMOLVLM)/config.json || $(PY) -m mobilemani_vla.smolvla_backbone $(SMOLVLM))
-	$(LEROBOT_TRAIN) --policy.type=$(LEROBOT_POLICY) $(LEROBOT_FLAGS_$(LEROBOT_POLICY)) \
-		--policy.device=cpu --policy.push_to_hub=false --dataset.repo_id=mobilemani/$(ROBOT) \
-		--dataset.root=$(LEROBOT_DATA) --dataset.video_backend=pyav --num_workers=0 --batch_size=$(LEROBOT_BATCH) \
-		--steps=$(LEROBOT_STEPS) --save_freq=$$(( ($(LEROBOT_STEPS) + 3) / 4 )) --log_freq=50 --wandb.enable=false \
-		--output_dir=$(LEROBOT_OUT) $(LEROBOT_ARGS)
+	$(LEROBOT_TRAIN) --preset=cpu --policy.type=$(LEROBOT_POLICY) --dataset.repo_id=mobilemani/$(ROBOT) \
+		--dataset.root=$(LEROBOT_DATA) --batch_size=$(LEROBOT_BATCH) --steps=$(LEROBOT_STEPS) \
+		--save_freq=$$(( ($(LEROBOT_STEPS) + 3) / 4 )) --log_freq=50 --output_dir=$(LEROBOT_OUT) $(LEROBOT_ARGS)
 	$(MAKE) eval ROBOT=$(ROBOT) POLICY=lerobot NAME=lerobot_$(LEROBOT_POLICY) \
 		CHECKPOINT=$$(cd $(LEROBOT_LAST) && pwd -P)/pretrained_model
 

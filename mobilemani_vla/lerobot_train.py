@@ -2,10 +2,11 @@
 decodes instead of lerobot's ~60-line torchcodec traceback on every dataset open,
 mobilemani_rl.utils.video_logs) and the camera frames read from the frame cache instead of decoded per sample
 (mobilemani_vla.data.lerobot_frames).
-LeRobot's arguments, plus `--frame_cache=false` to decode as stock LeRobot does:
+LeRobot's arguments, plus `--frame_cache=false` to decode as stock LeRobot does and `--preset=cpu` for the
+project's settings of the policy type (mobilemani_vla.lerobot_presets; flags given replace the preset's):
 
     python -m mobilemani_vla.lerobot_train --policy.type=act --dataset.root=<dataset> --output_dir=<run> \\
-        ... [--frame_cache=false]
+        ... [--frame_cache=false] [--preset=cpu]
 
 Rerunning the same command continues, as our own stages do (lerobot-train refuses an existing --output_dir,
 and its `--resume=true` trains to the steps the run was first given): from the run's last checkpoint to
@@ -26,8 +27,10 @@ from mobilemani_rl.utils.cli import entry_point
 from mobilemani_rl.utils.errors import ConfigMismatchError, InputError, OutputExistsError, check_values
 from mobilemani_rl.utils.io import read_json
 from mobilemani_rl.utils.video_logs import quiet_video_libraries
+from mobilemani_vla.lerobot_presets import ensure_smolvlm_backbone, merge_flags, preset_flags
 
 FLAG = "--frame_cache="
+PRESET = "--preset="
 COUNTS = ("steps", "batch_size")
 LAST = Path("checkpoints", "last")  # lerobot-train's link to a run's newest checkpoint
 
@@ -38,6 +41,13 @@ def frame_cache_flag(argv: list[str]) -> tuple[bool, list[str]]:
     if any(v not in ("true", "false") for v in values):
         raise InputError(f"{FLAG}{values[-1]}: give {FLAG}true (the default) or {FLAG}false")
     return (values[-1] if values else "true") == "true", [arg for arg in argv if not arg.startswith(FLAG)]
+
+
+def with_preset(argv: list[str]) -> list[str]:
+    """The arguments without `--preset=`, after the preset's flags for the keys they do not give."""
+    presets = [arg.removeprefix(PRESET) for arg in argv if arg.startswith(PRESET)]
+    rest = [arg for arg in argv if not arg.startswith(PRESET)]
+    return merge_flags(preset_flags(presets[-1], given(rest).policy_type), rest) if presets else rest
 
 
 def given(argv: list[str]) -> argparse.Namespace:
@@ -64,6 +74,23 @@ def check_arguments(argv: list[str]) -> None:
         open_dataset_metadata(args.repo_id, args.dataset_root)
 
 
+def trained_step(run: Path) -> int:
+    """The step of the run's newest finished checkpoint (0 where it has none)."""
+    step_file = run / LAST / "training_state" / "training_step.json"
+    return read_json(step_file)["step"] if step_file.exists() else 0
+
+
+def keep_last_checkpoint(run: Path) -> None:
+    """Deletes every checkpoint but the one `last` links to (lerobot-train keeps them all: at the ablation
+    study's sizes ~0.5 GB each)."""
+    if not (run / LAST).exists():
+        return
+    newest = (run / LAST).resolve()
+    for checkpoint in (run / "checkpoints").iterdir():
+        if checkpoint.name != LAST.name and checkpoint.resolve() != newest:
+            shutil.rmtree(checkpoint)
+
+
 def continued(argv: list[str]) -> list[str] | None:
     """lerobot-train's arguments for what --output_dir holds: as given for a new run; a resume to --steps from
     the last checkpoint; None when the run has its --steps already."""
@@ -71,8 +98,7 @@ def continued(argv: list[str]) -> list[str] | None:
     if args.output_dir is None or args.resume is not None or not Path(args.output_dir).exists():
         return argv
     run = Path(args.output_dir)
-    step_file = run / LAST / "training_state" / "training_step.json"
-    if not step_file.exists():
+    if not (reached := trained_step(run)):
         saved_one = any(run.glob("checkpoints/*/training_state/training_step.json"))
         if not saved_one and {p.name for p in run.iterdir()} <= {"checkpoints"}:  # killed in its first save
             print(f"{run} holds no finished checkpoint: starting it again", flush=True)
@@ -82,7 +108,6 @@ def continued(argv: list[str]) -> list[str] | None:
             f"--output_dir={run} exists without a LeRobot run's {LAST} to resume from; "
             "choose another or delete it"
         )
-    reached = read_json(step_file)["step"]
     saved = read_json(run / LAST / "pretrained_model" / "train_config.json")
     changed = changed_settings(saved, args)
     steps = int(args.steps) if args.steps is not None else saved["steps"]
@@ -121,12 +146,14 @@ def changed_settings(saved: dict, args: argparse.Namespace) -> list[str]:
 
 @entry_point
 def main() -> None:
-    use_cache, sys.argv[1:] = frame_cache_flag(sys.argv[1:])
+    use_cache, arguments = frame_cache_flag(sys.argv[1:])
+    sys.argv[1:] = with_preset(arguments)
     quiet_video_libraries()
     check_arguments(sys.argv[1:])
     if (arguments := continued(sys.argv[1:])) is None:
         return
     sys.argv[1:] = arguments
+    ensure_smolvlm_backbone(arguments)
     # Imported after the log filter is in place: lerobot warns about torchcodec while importing.
     from lerobot.scripts.lerobot_train import main as lerobot_train
 

@@ -91,12 +91,16 @@ SPLITS = [
     ("test_objects_train_scenes", "unseen objects, seen scenes", 39.2),
     (PROTOCOL_SPLIT, "unseen objects, unseen scenes", 28.2),
 ]
-# Model comparison: label, run name, paper success (G1, ablation subset).
+# Model comparison: label, run name, paper success (G1, ablation subset; None: not in the paper). The stock
+# LeRobot policies are the ablation study's baselines (mobilemani_vla.ablation_study).
 MODELS = [
     ("OpenVLA (7B)", "openvla", 4.5),
     ("CogACT (7B)", "cogact", 6.8),
     ("pi0 (3B)", "pi0", 11.2),
     ("pi0.5 (3B)", "pi05", 18.8),
+    ("ACT", "ablation_act", None),
+    ("Diffusion Policy", "ablation_diffusion", None),
+    ("SmolVLA (from scratch)", "ablation_smolvla", None),
     ("MobileManiVLA", "ablation_image_all", 28.2),
 ]
 

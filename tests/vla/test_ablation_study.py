@@ -114,3 +114,41 @@ def test_an_unknown_row_is_named_before_anything_runs(tmp_path, monkeypatch):
     with pytest.raises(InputError, match="episodes_per_batch"):
         ablation_study.main.__wrapped__()
     assert list(tmp_path.iterdir()) == []
+
+
+def test_a_baseline_trains_with_lerobot_and_joins_the_model_table(tmp_path, monkeypatch, capsys):
+    """ACT at test size through lerobot-train (the cpu preset) on the study's dataset, then the same
+    evaluation as the VLA rows."""
+    data = write_synthetic_dataset(tmp_path / "data", episodes=2, length=20)
+    tiny_act = [
+        *("policy.dim_model=32", "policy.n_heads=2", "policy.dim_feedforward=64"),
+        *("policy.n_encoder_layers=1", "policy.n_decoder_layers=1", "policy.latent_dim=8"),
+        *("batch_size=2", "steps=3", "log_freq=1"),
+    ]
+    evaluation = [
+        "subset.categories=[laptop]",
+        "subset.skills=[open]",
+        "subset.objects_per_category=1",
+        "env.episode_length=8",
+        f"output_dir={tmp_path}/eval",
+    ]
+    argv = ["ablation_study", "--rows", "ablation_act", "--episodes", "1", "--workers", "1"]
+    argv += ["--tables", str(tmp_path / "tables"), "--lerobot-out", str(tmp_path / "lerobot")]
+    argv += ["--train", f"data.root={data}", "data.repo_id=synthetic/g1", "--eval", *evaluation]
+    monkeypatch.setattr(sys, "argv", [*argv, "--lerobot", *tiny_act])
+    ablation_study.main()
+    out = capsys.readouterr().out
+    assert "== ablation_act: training to step 3 from step 0" in out
+    assert "== ablation_act: evaluating on test_objects_test_scenes" in out
+    # saved at every step (3 // 60 steps, at least 1), only the last checkpoint kept
+    run = tmp_path / "lerobot" / "ablation_act"
+    assert sorted(p.name for p in (run / "checkpoints").iterdir()) == ["000003", "last"]
+    config = (run / "checkpoints" / "000003" / "pretrained_model" / "config.json").read_text()
+    assert '"pretrained_backbone_weights": null' in config and '"chunk_size": 16' in config  # the cpu preset
+    path = tmp_path / "eval" / "g1" / "ablation_act" / "test_objects_test_scenes.jsonl"
+    assert len(read_records(path)) == 4 and finished(path, read_records(path))
+    models = (tmp_path / "tables" / "vla_models.md").read_text()
+    assert "| ACT | " in models and "g1/ablation_act: act model, 3 steps x 2 = 6 samples" in models
+
+    ablation_study.main()  # done: nothing trains or runs again
+    assert "== " not in capsys.readouterr().out

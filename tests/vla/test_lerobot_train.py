@@ -11,7 +11,16 @@ import pytest
 
 from mobilemani_rl.utils.errors import ConfigMismatchError, InputError, OutputExistsError
 from mobilemani_vla.data.synthetic import write_synthetic_dataset
-from mobilemani_vla.lerobot_train import LAST, check_arguments, continued, frame_cache_flag
+from mobilemani_vla.lerobot_presets import RUN_FLAGS, SMOLVLM_DIR
+from mobilemani_vla.lerobot_train import (
+    LAST,
+    check_arguments,
+    continued,
+    frame_cache_flag,
+    keep_last_checkpoint,
+    trained_step,
+    with_preset,
+)
 
 
 def test_frame_cache_flag_is_taken_out_of_lerobots_arguments():
@@ -106,3 +115,34 @@ def test_a_run_killed_before_its_first_checkpoint_starts_again_and_other_directo
     assert (tmp_path / "notes" / "todo.txt").exists() and (
         tmp_path / "unlinked" / "checkpoints" / "000500"
     ).exists()
+
+
+def test_the_cpu_preset_adds_the_policy_types_settings_and_flags_given_replace_them():
+    act = with_preset(["--preset=cpu", "--policy.type=act", "--policy.chunk_size=8", "--steps", "3"])
+    assert act[: len(RUN_FLAGS)] == RUN_FLAGS and act[-4:] == [
+        "--policy.type=act",
+        "--policy.chunk_size=8",
+        "--steps",
+        "3",
+    ]
+    assert "--policy.pretrained_backbone_weights=null" in act and "--policy.n_action_steps=16" in act
+    assert [a for a in act if a.startswith("--policy.chunk_size")] == ["--policy.chunk_size=8"]  # once: ours
+    smolvla = with_preset(["--policy.type", "smolvla", "--preset=cpu"])
+    assert f"--policy.vlm_model_name={SMOLVLM_DIR.resolve()}" in smolvla and "--preset=cpu" not in smolvla
+    assert with_preset(["--policy.type=act"]) == ["--policy.type=act"]  # no preset: LeRobot's own settings
+    with pytest.raises(InputError, match="--preset=gpu: choose among cpu"):
+        with_preset(["--preset=gpu", "--policy.type=act"])
+    with pytest.raises(
+        InputError, match="--preset=cpu needs --policy.type among act, diffusion, smolvla .given: pi0"
+    ):
+        with_preset(["--preset=cpu", "--policy.type=pi0"])
+
+
+def test_only_the_checkpoint_last_links_to_is_kept(tmp_path):
+    run = trained_run(tmp_path / "run", 1000, 2000)
+    assert trained_step(run) == 1000 and trained_step(tmp_path / "none") == 0
+    (run / "checkpoints" / "000500" / "pretrained_model").mkdir(parents=True)  # an older one
+    (run / "checkpoints" / "001500" / "pretrained_model").mkdir(parents=True)  # a save the deadline cut off
+    keep_last_checkpoint(run)
+    assert sorted(p.name for p in (run / "checkpoints").iterdir()) == ["001000", "last"]
+    assert trained_step(run) == 1000
