@@ -19,7 +19,7 @@ the same command continues the study; a training piece starts only with `MIN_PIE
 ends by writing the paper's VLA tables (`make tables`' `vla/`) from every result so far.
 
 Scales: `cpu` adds `vla/model=cpu vla/train=ablation_cpu` (2 CPU cores; docs/results/ablation.md) and trains
-the baselines with `--preset=cpu` for the main row's number of samples; `paper` keeps the experiments' own
+the baselines with `--preset=cpu` for about the main row's training time; `paper` keeps the experiments' own
 settings (PaliGemma-2 3B, 160K steps at batch 120: a GPU job) and trains the baselines for as many, with
 LeRobot's own sizes. The seen splits are
 subsampled to about the size of the unseen one (264 combinations): each seen object in the first of its
@@ -78,10 +78,12 @@ JOBS = [
 ROWS = list(dict.fromkeys(row for row, _ in JOBS))
 # The model comparison's stock LeRobot policies: row -> policy type.
 BASELINES = {"ablation_act": "act", "ablation_diffusion": "diffusion", "ablation_smolvla": "smolvla"}
-# lerobot-train's settings at each scale, beside the dataset, the run directory and the save frequency.
+# lerobot-train's settings at each scale, beside the dataset, the run directory and the save frequency, and
+# each policy type's steps: at CPU scale, about the main row's training time on 2 cores from each policy's
+# measured rate (docs/results/ablation.md); at the paper's, its VLA steps and batch.
 BASELINE_TRAINING = {
-    "cpu": ["--preset=cpu", "--steps=30000", "--batch_size=32"],
-    "paper": ["--steps=160000", "--batch_size=120"],
+    "cpu": (["--preset=cpu", "--batch_size=32"], {"act": 5000, "diffusion": 6000, "smolvla": 9000}),
+    "paper": (["--batch_size=120"], dict.fromkeys(BASELINES.values(), 160000)),
 }
 # A baseline's inputs are LeRobot's: every camera stream (the main row's four) and observation.state, the main
 # row's wrist pose with the gripper joint. Saves per run: what a stop at the deadline can lose.
@@ -153,13 +155,15 @@ def train_row(cfg: VLACfg, budget: Budget) -> bool:
 
 def baseline_flags(row: str, dataset: VLACfg, args: argparse.Namespace) -> list[str]:
     """lerobot-train's arguments for a baseline row, on the dataset the VLA rows train on."""
+    scale_flags, steps_of = BASELINE_TRAINING[args.scale]
     flags = [
         f"--policy.type={BASELINES[row]}",
         f"--dataset.root={dataset.data.root}",
         f"--dataset.repo_id={dataset.data.repo_id}",
         f"--output_dir={args.lerobot_out / row}",
         "--log_freq=100",
-        *BASELINE_TRAINING[args.scale],
+        *scale_flags,
+        f"--steps={steps_of[BASELINES[row]]}",
     ]
     extra = [f"--{flag}" for flag in args.lerobot]
     steps = int(given([*flags, *extra]).steps)
