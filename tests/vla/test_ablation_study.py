@@ -18,6 +18,17 @@ SPLIT_FILES = {
 }
 
 
+def tiny_evaluation(tmp_path) -> list[str]:
+    """The first laptop object of each object split (opened), 8-step episodes."""
+    return [
+        "subset.categories=[laptop]",
+        "subset.skills=[open]",
+        "subset.objects_per_category=1",
+        "env.episode_length=8",
+        f"output_dir={tmp_path}/eval",
+    ]
+
+
 def run_study(monkeypatch, tmp_path, *extra: str) -> None:
     """Two rows with the tiny model on a synthetic dataset, each split evaluated on the first laptop object
     of its object split (opened), one 8-step episode per combination."""
@@ -37,13 +48,7 @@ def run_study(monkeypatch, tmp_path, *extra: str) -> None:
         "train.steps=2",
         "train.diagnose_every=0",
     ]
-    evaluation = [
-        "subset.categories=[laptop]",
-        "subset.skills=[open]",
-        "subset.objects_per_category=1",
-        "env.episode_length=8",
-        f"output_dir={tmp_path}/eval",
-    ]
+    evaluation = tiny_evaluation(tmp_path)
     argv = ["ablation_study", "--scale", "paper", "--rows", "ablation_image_all", "ablation_image_head_rgb"]
     argv += ["--episodes", "1", "--workers", "1", "--tables", str(tmp_path / "tables"), *extra]
     monkeypatch.setattr(sys, "argv", [*argv, "--train", *train, "--eval", *evaluation])
@@ -125,13 +130,7 @@ def test_a_baseline_trains_with_lerobot_and_joins_the_model_table(tmp_path, monk
         *("policy.n_encoder_layers=1", "policy.n_decoder_layers=1", "policy.latent_dim=8"),
         *("batch_size=2", "steps=3", "log_freq=1"),
     ]
-    evaluation = [
-        "subset.categories=[laptop]",
-        "subset.skills=[open]",
-        "subset.objects_per_category=1",
-        "env.episode_length=8",
-        f"output_dir={tmp_path}/eval",
-    ]
+    evaluation = tiny_evaluation(tmp_path)
     argv = ["ablation_study", "--rows", "ablation_act", "--episodes", "1", "--workers", "1"]
     argv += ["--tables", str(tmp_path / "tables"), "--lerobot-out", str(tmp_path / "lerobot")]
     argv += ["--train", f"data.root={data}", "data.repo_id=synthetic/g1", "--eval", *evaluation]
