@@ -247,10 +247,9 @@ def study_jobs(args: argparse.Namespace) -> list[Job]:
             evaluations = [split_evaluation(row, s, checkpoint, args, "lerobot") for s in splits]
             jobs.append((partial(train_baseline, row, baselines[row]), evaluations))
     untrained = [cfg for cfg in trainings.values() if not final_checkpoint(cfg).is_dir()]
-    if any(not baseline_checkpoint(flags).is_dir() for flags in baselines.values()):
-        untrained.append(dataset)
-    check_training_data(untrained)
-    for flags in baselines.values():
+    untrained_baselines = [f for f in baselines.values() if not baseline_checkpoint(f).is_dir()]
+    check_training_data([*untrained, dataset] if untrained_baselines else untrained)
+    for flags in untrained_baselines:
         check_arguments(flags)
     return jobs
 
