@@ -70,14 +70,18 @@ def preset_flags(preset: str, policy: str | None) -> list[str]:
         raise InputError(
             f"--preset={preset} needs --policy.type among {', '.join(POLICY_FLAGS)} (given: {policy})"
         )
-    vlm = [f"--policy.vlm_model_name={SMOLVLM_DIR.resolve()}"] if policy == "smolvla" else []
+    vlm = [smolvlm_flag()] if policy == "smolvla" else []
     return [*RUN_FLAGS, *POLICY_FLAGS[policy], *vlm]
+
+
+def smolvlm_flag() -> str:
+    """The preset's SmolVLA backbone, as an absolute path: its checkpoints name it."""
+    return f"--policy.vlm_model_name={SMOLVLM_DIR.resolve()}"
 
 
 def ensure_smolvlm_backbone(argv: list[str]) -> None:
     """Writes the preset's untrained SmolVLM backbone where `argv` names it and it is missing."""
-    named = f"--policy.vlm_model_name={SMOLVLM_DIR.resolve()}" in argv
-    if named and not (SMOLVLM_DIR / "config.json").exists():
+    if smolvlm_flag() in argv and not (SMOLVLM_DIR / "config.json").exists():
         from mobilemani_vla.smolvla_backbone import write_smolvlm_backbone
 
         print(f"writing the untrained SmolVLM backbone to {write_smolvlm_backbone(SMOLVLM_DIR)}", flush=True)

@@ -81,8 +81,8 @@ def trained_step(run: Path) -> int:
 
 
 def keep_last_checkpoint(run: Path) -> None:
-    """Deletes every checkpoint but the one `last` links to (lerobot-train keeps them all: at the ablation
-    study's sizes ~0.5 GB each)."""
+    """Deletes every checkpoint but the one `last` links to (lerobot-train keeps them all, each with its
+    optimizer state)."""
     if not (run / LAST).exists():
         return
     newest = (run / LAST).resolve()
