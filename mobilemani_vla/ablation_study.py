@@ -183,14 +183,18 @@ def baseline_checkpoint(flags: list[str]) -> Path:
 def train_baseline(row: str, flags: list[str], budget: Budget) -> bool:
     """lerobot-train on the baseline's flags until its last step or the budget (stopped there; the next call
     resumes it from its last checkpoint); returns whether its last checkpoint exists."""
-    run = Path(given(flags).output_dir)
     if baseline_checkpoint(flags).is_dir():
         return True
     piece = budget.minutes_left() - 1
     if piece < MIN_PIECE_MINUTES:
         return False
-    steps, start = given(flags).steps, trained_step(run)
-    print(f"== {row}: training to step {steps} from step {start} (this piece: {piece:.0f} min)", flush=True)
+    settings = given(flags)
+    run = Path(settings.output_dir)
+    start = trained_step(run)
+    print(
+        f"== {row}: training to step {settings.steps} from step {start} (this piece: {piece:.0f} min)",
+        flush=True,
+    )
     command = [sys.executable, "-m", "mobilemani_vla.lerobot_train", *flags]
     try:
         done = subprocess.run(command, timeout=60 * piece, env=os.environ | {"HF_HUB_OFFLINE": "1"})
