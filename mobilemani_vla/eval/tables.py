@@ -268,7 +268,8 @@ def split_table(results: dict, run: str) -> Table:
 
 
 def model_table(results: dict) -> Table:
-    named = {run for _, run, _ in MODELS}
+    # The ablation rows are MobileManiVLA with other inputs: their own tables show them.
+    named = {run for _, run, _ in MODELS} | {row[0] for row in IMAGE_ABLATION + STATE_ABLATION}
     rows = [
         [label, *with_interval(results.get(("g1", run, PROTOCOL_SPLIT))), num(paper)]
         for label, run, paper in MODELS

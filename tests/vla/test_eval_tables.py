@@ -59,6 +59,13 @@ def test_tables_and_plots_from_results(tmp_path):
     for split, rate in (("train_objects_train_scenes", [True, True]), (PROTOCOL_SPLIT, [True, False])):
         write_run(root, "g1", "ablation_image_all", split, {("laptop/0030", "open", "tabletop/16"): rate})
     write_run(root, "g1", "lerobot_act", PROTOCOL_SPLIT, {("laptop/0030", "open", "tabletop/16"): [False]})
+    write_run(
+        root,
+        "g1",
+        "ablation_image_head_rgbd",
+        PROTOCOL_SPLIT,
+        {("laptop/0030", "open", "tabletop/16"): [True]},
+    )
     results = load(root)
     tables = build_tables(results, "default", "ablation_image_all")
 
@@ -73,6 +80,7 @@ def test_tables_and_plots_from_results(tmp_path):
     assert (
         "| x | x | x | x | x |  |  | 50.0 | 9.5-90.5 | 2 | 28.2 |" in image
         and "| x |  |  |  | x |  |  | - | - | - | 7.9 |" in image
+        and "| x | x |  |  | x |  |  | 100.0 | 20.7-100.0 | 1 | 14.1 |" in image
     )
     # cameras all on
     assert "|  |  |  |  |  |  |  | - | - | - | 22.4 |" not in tables["vla_ablation_state"].markdown()
@@ -84,6 +92,7 @@ def test_tables_and_plots_from_results(tmp_path):
     models = tables["vla_models"].markdown()
     assert "| MobileManiVLA | 50.0 | 9.5-90.5 | 2 | 28.2 |" in models
     assert "| lerobot_act | 0.0 | 0.0-79.3 | 1 | - |" in models
+    assert "ablation_image_head_rgbd" not in models  # an ablation row, in the image table instead
     latex = tables["vla_by_skill"].latex()
     assert r"\toprule" in latex and "Open & 50.0 & - & 42.9 & 34.5" in latex
 
