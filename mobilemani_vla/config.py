@@ -9,6 +9,7 @@ from dataclasses import dataclass, field
 from hydra import compose, initialize_config_dir
 from omegaconf import OmegaConf
 
+from mobilemani_data import schema
 from mobilemani_rl.envs.config import RobotChoiceCfg
 from mobilemani_rl.utils.config_store import CONF_DIR, register_schema, to_dataclass
 from mobilemani_rl.utils.errors import InputError, check_positive, check_values
@@ -17,7 +18,10 @@ from mobilemani_vla.model.dit import DIT_PRESETS, GELU_APPROXIMATIONS
 
 DTYPES = ("float32", "bfloat16", "float16")
 ROBOT_ACTION_DIMS = {"g1": 7, "xhand": 18}  # 6 wrist deltas + 1 gripper / 12 hand joints
-CAMERAS = ("head_rgb", "head_depth", "wrist_rgb", "wrist_depth")
+CAMERAS = ("head_rgb", "head_depth", "wrist_rgb", "wrist_depth")  # the paper's image inputs
+# Every image stream a dataset can hold: the paper's four and the segmentation images (object 1, robot 2,
+# background 0), which show where the object is whatever the room looks like.
+IMAGE_STREAMS = tuple(f"{camera}_{modality}" for camera in schema.CAMERAS for modality in schema.MODALITIES)
 STATES = ("wrist_pose", "grasp_point", "goal_point")
 BETA_SCHEDULES = ("linear", "scaled_linear", "squaredcos_cap_v2")  # those diffusers' DDIMScheduler computes
 VIDEO_BACKENDS = ("pyav", "torchcodec")  # LeRobot's decoders (its third, video_reader, is an alias of pyav)
@@ -252,14 +256,14 @@ class VLACfg:
         _choices("diffusion.beta_schedule", [d.beta_schedule], BETA_SCHEDULES)
         _choices("data.video_backend", [data.video_backend], VIDEO_BACKENDS)
         _choices("robot", [self.robot], ROBOT_ACTION_DIMS)
-        _choices("inputs.cameras", self.inputs.cameras, CAMERAS)
+        _choices("inputs.cameras", self.inputs.cameras, IMAGE_STREAMS)
         _choices("inputs.states", self.inputs.states, STATES)
         _choices("train.cognition_targets", t.cognition_targets, STATES)
         _choices("model.dit", [self.model.dit], DIT_PRESETS)
         _choices("model.dit_gelu", [self.model.dit_gelu], GELU_APPROXIMATIONS)
         _choices("model.dtype", [self.model.dtype], DTYPES)
         if not self.inputs.cameras:
-            raise InputError(f"inputs.cameras must name at least one of {list(CAMERAS)}")
+            raise InputError(f"inputs.cameras must name at least one of {list(IMAGE_STREAMS)}")
         return self
 
 

@@ -285,6 +285,23 @@ def test_checkpoint_resume_and_policy(dataset_root, tmp_path):
         policy.predict_action_chunk(images, "open box", {schema.STATE: vectors[schema.STATE]})
 
 
+def test_a_segmentation_stream_trains_and_acts_as_an_image_input(dataset_root, tmp_path):
+    """head_seg / wrist_seg are not among the paper's inputs, but a VLA reads them as any other stream."""
+    cameras = ["head_rgb", "wrist_seg"]
+    cfg = tiny_cfg(dataset_root, tmp_path, [f"inputs.cameras=[{','.join(cameras)}]", "train.steps=1"])
+    policy = VLAPolicy.load(train(cfg).checkpoint)
+    assert policy.cameras == cameras
+    frame = open_data(cfg, 32, progress=False).train[3]
+    images = {
+        c: (frame[camera_key(c)].permute(1, 2, 0) * 255).round().to(torch.uint8).numpy() for c in cameras
+    }
+    vectors = {k: frame[k].numpy() for k in policy.vector_inputs}
+    chunk = policy.predict_action_chunk(images, "open box", vectors, torch.Generator().manual_seed(0))
+    assert chunk.shape == (16, 7) and np.isfinite(chunk).all()
+    with pytest.raises(KeyError, match="wrist_seg"):
+        policy.predict_action_chunk({"head_rgb": images["head_rgb"]}, "open box", vectors)
+
+
 def test_a_training_state_holding_more_than_tensors_is_refused_on_resume(dataset_root, tmp_path):
     out, marker = tmp_path / "run", tmp_path / "PWNED"
     first = train(tiny_cfg(dataset_root, out, ["train.steps=1", "train.diagnose_every=0"]))
