@@ -111,6 +111,17 @@ def diagnose(
         ).clamp(-1.0, 1.0)  # as executed
         out[f"open_loop_mse/cfg_{scale:g}"] = F.mse_loss(sampled.float(), actions).item()
         out[f"open_loop_mse_first/cfg_{scale:g}"] = F.mse_loss(sampled[:, 0].float(), actions[:, 0]).item()
+    if head.guided:
+        # The whole chunk sampled from the null vector: a denoiser can tell white noise from a smooth chunk
+        # without any condition, so the noise error hides how much the actions depend on the images.
+        blind = head.sample(
+            cognition,
+            state,
+            model.action_dim,
+            torch.Generator(device=actions.device).manual_seed(SEED),
+            unconditional=True,
+        ).clamp(-1.0, 1.0)
+        out["open_loop_mse/null_image"] = F.mse_loss(blind.float(), actions).item()
     out.update(cognition_spread(model, batch, cognition))
     if model.cognition_probe is not None:
         out["cognition/target_mse"] = model.cognition_target_error(cognition, batch).item()

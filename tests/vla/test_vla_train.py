@@ -241,7 +241,9 @@ def test_checkpoint_resume_and_policy(dataset_root, tmp_path):
     diagnostics = [json.loads(line) for line in (tmp_path / "diagnostics.jsonl").read_text().splitlines()]
     assert [d["step"] for d in diagnostics] == [0, 2, 4]  # held-out diagnostics, none repeated by the resume
     keys = {"image", "null_image", "no_state", "null_instruction", "wrong_instruction"}
-    assert {f"noise_mse/{k}" for k in keys} | {"open_loop_mse/cfg_1.5"} <= set(diagnostics[-1])
+    assert {f"noise_mse/{k}" for k in keys} | {"open_loop_mse/cfg_1.5", "open_loop_mse/null_image"} <= set(
+        diagnostics[-1]
+    )
     assert diagnostics[-1]["cognition/spread"] > 0 and diagnostics[-1]["cognition/image_swap"] > 0
     assert json.loads((resumed.checkpoint / "trainer_state.json").read_text()) == {"step": 5}
 
