@@ -229,8 +229,7 @@ lerobot: setup
 # The whole chain at small scale (times and results: docs/results/demo.md): a PPO teacher for g1 opening test/box
 # (seed DEMO_PPO_SEED, DEMO_PPO_ITERATIONS iterations), its dataset conf/data/preset/demo.yaml (more data
 # overrides: DEMO_DATA_ARGS), the VLA conf/experiment/demo.yaml trained DEMO_VLA_STEPS steps (more VLA overrides:
-# DEMO_VLA_ARGS), closed-loop
-# evaluation in the four unseen test rooms
+# DEMO_VLA_ARGS), closed-loop evaluation in the four unseen test rooms
 # (conf/eval/protocol/demo.yaml: the teacher over 20 episodes; the VLA over those 20 plus 40 with seed=1, in two
 # worker processes, a core each), tables and a report with the VLA's 60-episode rate and its interval,
 # DEMO/report.md (no rollout video: it doubles the evaluation on 2 cores; add EVAL_ARGS video_episodes=1 to

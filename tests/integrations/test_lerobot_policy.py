@@ -125,6 +125,10 @@ def test_policy_config_names_what_the_dataset_lacks():
     cfg.cameras = None
     cfg.validate_features()
     assert cfg.cameras == ["head_rgb"] and cfg.action_delta_indices == list(range(16))
+    cfg.input_features[schema.image_key("wrist", "seg")] = image
+    cfg.cameras = ["head_rgb", "wrist_seg"]  # a segmentation stream is an image input too
+    cfg.validate_features()
+    assert cfg.cameras == ["head_rgb", "wrist_seg"]
     cfg.overrides = ["inputs.states=[wrist_pose,grasp_point]"]
     cfg.vla_yaml = None
     with pytest.raises(InputError, match="grasp_point"):  # object.* features never reach a LeRobot policy

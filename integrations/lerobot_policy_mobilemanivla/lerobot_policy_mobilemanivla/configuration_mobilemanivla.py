@@ -19,7 +19,7 @@ from lerobot.utils.constants import ACTION
 from mobilemani_rl.utils.config_store import group_options
 from mobilemani_rl.utils.errors import InputError, check_choice
 from mobilemani_vla.config import (
-    CAMERAS,
+    IMAGE_STREAMS,
     ROBOT_ACTION_DIMS,
     VLACfg,
     compose_vla_cfg,
@@ -83,7 +83,7 @@ class MobileManiVLAConfig(PreTrainedConfig):
                 f"the output features are {self.output_features}"
             )
         inputs = self.input_features or {}
-        available = [c for c in CAMERAS if camera_key(c) in inputs]
+        available = [c for c in IMAGE_STREAMS if camera_key(c) in inputs]
         wanted = cfg.inputs.cameras if self.cameras is None else self.cameras
         cameras = [c for c in wanted if c in available] if self.cameras is None else list(wanted)
         if not cameras or any(c not in available for c in cameras):
