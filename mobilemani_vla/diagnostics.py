@@ -6,7 +6,9 @@
   null vector's, the action head ignores what the backbone sees; if it is not below the empty and wrong
   instructions', the model does not read the instruction.
 - Open-loop action error: DDIM-sampled chunks (clipped to [-1, 1] as when executed) against the recorded ones
-  (normalised units, whole chunk and first step), for each classifier-free-guidance scale asked for.
+  (normalised units, whole chunk and first step), for each classifier-free-guidance scale asked for, and the
+  chunk sampled from the null vector alone: the noise error barely depends on any input, as a denoiser tells
+  white noise from a smooth chunk without one, so this gap shows better how far the actions follow the images.
 - The cognition feature's dependence on the input (`cognition_spread`): how much it varies from frame to frame
   and how much it moves when the frames' images are swapped, relative to its size. A backbone whose feature
   no longer depends on its input (spread 0) leaves the action head only the state.
@@ -112,8 +114,6 @@ def diagnose(
         out[f"open_loop_mse/cfg_{scale:g}"] = F.mse_loss(sampled.float(), actions).item()
         out[f"open_loop_mse_first/cfg_{scale:g}"] = F.mse_loss(sampled[:, 0].float(), actions[:, 0]).item()
     if head.guided:
-        # The whole chunk sampled from the null vector: a denoiser can tell white noise from a smooth chunk
-        # without any condition, so the noise error hides how much the actions depend on the images.
         blind = head.sample(
             cognition,
             state,

@@ -16,6 +16,7 @@ from mobilemani_data import schema
 from mobilemani_rl.utils.config_store import to_dataclass
 from mobilemani_rl.utils.errors import InputError
 from mobilemani_rl.utils.writer_lock import TRAIN_LOCK, WriterLock
+from mobilemani_vla import checkpoint_diagnostics
 from mobilemani_vla.config import ROOT_ONLY, VLACfg
 from mobilemani_vla.data import frame_cache
 from mobilemani_vla.data.dataset import fit_normalizer, open_data
@@ -302,6 +303,19 @@ def test_a_segmentation_stream_trains_and_acts_as_an_image_input(dataset_root, t
     assert chunk.shape == (16, 7) and np.isfinite(chunk).all()
     with pytest.raises(KeyError, match="wrist_seg"):
         policy.predict_action_chunk({"head_rgb": images["head_rgb"]}, "open box", vectors)
+
+
+def test_a_checkpoints_diagnostics_are_those_its_training_logged(dataset_root, tmp_path, capsys, monkeypatch):
+    out = tmp_path / "run"
+    checkpoint = train(tiny_cfg(dataset_root, out, ["train.steps=2", "train.diagnose_every=2"])).checkpoint
+    logged = json.loads((out / "diagnostics.jsonl").read_text().splitlines()[-1])
+    monkeypatch.setattr("sys.argv", ["checkpoint_diagnostics", str(checkpoint)])
+    checkpoint_diagnostics.main()
+    again = json.loads(capsys.readouterr().out.splitlines()[-1])
+    assert again["checkpoint"] == str(checkpoint) and logged["step"] == 2
+    assert {k: round(v, 6) for k, v in again.items() if k != "checkpoint"} == {
+        k: round(v, 6) for k, v in logged.items() if k not in ("step", "train_loss")
+    }
 
 
 def test_a_training_state_holding_more_than_tensors_is_refused_on_resume(dataset_root, tmp_path):
