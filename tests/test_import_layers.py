@@ -35,7 +35,16 @@ LAYERS = [
     ("mobilemani_rl.rl", (UTILS, ASSETS, ENVS, SCRIPTED)),
     ("mobilemani_data", (*SIMULATOR, TEACHER)),
     ("mobilemani_vla", (*SIMULATOR, TEACHER, *DATASET)),
-    (VLA_CONFIG, (UTILS, f"{ENVS}.config", f"{VLA_MODEL}.dit", "mobilemani_vla.data.augment")),
+    (
+        VLA_CONFIG,
+        (
+            UTILS,
+            "mobilemani_data.schema",
+            f"{ENVS}.config",
+            f"{VLA_MODEL}.dit",
+            "mobilemani_vla.data.augment",
+        ),
+    ),
     (VLA_MODEL, (UTILS, "mobilemani_data.schema", VLA_CONFIG)),
     ("mobilemani_vla.data", (UTILS, *DATASET, VLA_CONFIG, VLA_MODEL)),
     ("mobilemani_vla.checkpoint", (UTILS, VLA_CONFIG, VLA_MODEL)),
