@@ -103,24 +103,18 @@ def diagnose(
         if f"{variant}/input_ids" in batch:
             prompt = {k: batch[f"{variant}/{k}"] for k in ("input_ids", "attention_mask")}
             out[f"noise_mse/{variant}"] = noise_error(True, False, model.condition({**batch, **prompt})[0])
+
+    def sampled_chunk(**guidance) -> torch.Tensor:
+        """A DDIM chunk from the fixed noise, clipped to [-1, 1] as executed."""
+        generator = torch.Generator(device=actions.device).manual_seed(SEED)
+        return head.sample(cognition, state, model.action_dim, generator, **guidance).clamp(-1.0, 1.0)
+
     for scale in cfg_scales:
-        sampled = head.sample(
-            cognition,
-            state,
-            model.action_dim,
-            torch.Generator(device=actions.device).manual_seed(SEED),
-            cfg_scale=scale,
-        ).clamp(-1.0, 1.0)  # as executed
+        sampled = sampled_chunk(cfg_scale=scale)
         out[f"open_loop_mse/cfg_{scale:g}"] = F.mse_loss(sampled.float(), actions).item()
         out[f"open_loop_mse_first/cfg_{scale:g}"] = F.mse_loss(sampled[:, 0].float(), actions[:, 0]).item()
     if head.guided:
-        blind = head.sample(
-            cognition,
-            state,
-            model.action_dim,
-            torch.Generator(device=actions.device).manual_seed(SEED),
-            unconditional=True,
-        ).clamp(-1.0, 1.0)
+        blind = sampled_chunk(unconditional=True)
         out["open_loop_mse/null_image"] = F.mse_loss(blind.float(), actions).item()
     out.update(cognition_spread(model, batch, cognition))
     if model.cognition_probe is not None:
