@@ -17,6 +17,8 @@ FPS = 30
 CAMERAS = ("head", "wrist")
 MODALITIES = ("rgb", "depth", "seg")
 SEGMENTATION_SCALE = 100  # label * 100 in every channel: 0, 100, 200
+# Image stream names, camera_modality: head_rgb, head_depth, head_seg, wrist_rgb, ...
+IMAGE_STREAMS = tuple(f"{camera}_{modality}" for camera in CAMERAS for modality in MODALITIES)
 
 # LeRobot's conventions (lerobot.utils.feature_utils.dataset_to_policy_features): every feature named
 # "action*" is an output and only `action` is loaded in chunks; "observation.state" is the state stock

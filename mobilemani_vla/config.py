@@ -21,7 +21,7 @@ ROBOT_ACTION_DIMS = {"g1": 7, "xhand": 18}  # 6 wrist deltas + 1 gripper / 12 ha
 CAMERAS = ("head_rgb", "head_depth", "wrist_rgb", "wrist_depth")  # the paper's image inputs
 # Every image stream a dataset can hold: the paper's four and the segmentation images (object 1, robot 2,
 # background 0), which show where the object is whatever the room looks like.
-IMAGE_STREAMS = tuple(f"{camera}_{modality}" for camera in schema.CAMERAS for modality in schema.MODALITIES)
+IMAGE_STREAMS = schema.IMAGE_STREAMS
 STATES = ("wrist_pose", "grasp_point", "goal_point")
 BETA_SCHEDULES = ("linear", "scaled_linear", "squaredcos_cap_v2")  # those diffusers' DDIMScheduler computes
 VIDEO_BACKENDS = ("pyav", "torchcodec")  # LeRobot's decoders (its third, video_reader, is an alias of pyav)

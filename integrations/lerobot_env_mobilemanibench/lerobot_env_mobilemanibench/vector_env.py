@@ -32,7 +32,6 @@ from mobilemani_rl.utils.errors import InputError, check_choice
 from mobilemani_vla.eval.harness import batch_seed, episode_env
 from mobilemani_vla.eval.observe import ObservationBuilder
 
-CAMERA_NAMES = tuple(f"{c}_{m}" for c in schema.CAMERAS for m in schema.MODALITIES)
 # The exporter's defaults, so that a policy trained on a default export runs unmodified.
 _EXPORT = ExportCfg()
 DEFAULT_CAMERAS = tuple(f"{c}_{m}" for c in _EXPORT.cameras for m in _EXPORT.modalities)
@@ -50,7 +49,7 @@ def check_observation(
 ) -> None:
     """The observation settings, each bad one named by its key (`prefix`: "env." in LeRobot's config)."""
     for camera in cameras:
-        check_choice(camera, CAMERA_NAMES, f"{prefix}cameras entry")
+        check_choice(camera, schema.IMAGE_STREAMS, f"{prefix}cameras entry")
     if len(set(cameras)) != len(cameras):
         raise InputError(f"{prefix}cameras={list(cameras)} names a camera twice")
     # LeRobot tells channels-last images by their channel axis being the shortest
