@@ -238,7 +238,7 @@ lerobot: setup
 DEMO ?= outputs/demo
 DEMO_PPO_SEED ?= 42
 DEMO_PPO_ITERATIONS ?= 100
-DEMO_VLA_STEPS ?= 9000
+DEMO_VLA_STEPS ?= 6000
 DEMO_DATA_ARGS ?=
 DEMO_VLA_ARGS ?=
 DEMO_CHECKPOINT = $(DEMO)/vla/checkpoints/step_$(shell printf %08d $(DEMO_VLA_STEPS))

@@ -120,7 +120,23 @@ def vla_section(demo: Path, out: Path) -> list[str]:
             if f"noise_mse/{key}" in last:
                 value = last[f"noise_mse/{key}"]
                 lines.append(f"| {name} | {value:.4f} | {value - real:+.4f} |")
+        lines += open_loop_lines(last)
     return lines + ["", "![VLA loss](vla_loss.png)", ""]
+
+
+def open_loop_lines(diagnostics: dict) -> list[str]:
+    """The whole sampled chunk's error with the images against from the null vector alone: the noise error
+    barely depends on the condition (a denoiser tells noise from a smooth chunk without it), this does."""
+    guided = next((key for key in diagnostics if key.startswith("open_loop_mse/cfg_")), None)
+    if guided is None or "open_loop_mse/null_image" not in diagnostics:
+        return []
+    with_images, without = diagnostics[guided], diagnostics["open_loop_mse/null_image"]
+    return [
+        "",
+        f"Held-out open-loop error of the sampled action chunk: {with_images:.3f} with the images "
+        f"(guidance {guided.removeprefix('open_loop_mse/cfg_')}), {without:.3f} from the null vector alone "
+        f"({without - with_images:+.3f}).",
+    ]
 
 
 def inputs_lines(demo: Path) -> list[str]:

@@ -72,14 +72,15 @@ def test_preset_composes_and_converts(root, override):
 def test_a_data_preset_chooses_its_groups_and_the_command_line_still_wins():
     demo = to_dataclass(with_env_task(compose_root("data", ["data/preset=demo"])), DataCfg)
     assert demo.subset.objects == ["test/box"] and demo.teacher.kind == "ppo"  # its groups beat data.yaml's
-    assert demo.collect.action_noise == 0.3 and demo.export.modalities == ["rgb"]
+    assert demo.collect.action_noise == 0.3 and demo.export.modalities == ["rgb", "seg"]
     recipe = compose_root("data", ["data/preset=recipe", "data/subset=tiny", "export.width=32"])
     assert recipe.teacher.kind == "scripted" and recipe.subset.episodes == 2 and recipe.export.width == 32
 
 
 def test_the_demo_experiment_saves_and_diagnoses_at_its_last_step():
     cfg = CONVERT["vla"](compose_root("vla", ["+experiment=demo", "train.steps=40"]))
-    assert cfg.name == "demo" and cfg.model.name == "cpu" and cfg.inputs.cameras == ["head_rgb", "wrist_rgb"]
+    assert cfg.name == "demo" and cfg.model.name == "cpu" and cfg.inputs.states == ["wrist_pose"]
+    assert cfg.inputs.cameras == ["head_rgb", "head_seg", "wrist_rgb", "wrist_seg"]  # the dataset's four streams
     assert cfg.train.steps == cfg.train.save_every == cfg.train.diagnose_every == 40
 
 
