@@ -228,8 +228,8 @@ lerobot: setup
 
 # The whole chain at small scale (times and results: docs/results/demo.md): a PPO teacher for g1 opening test/box
 # (seed DEMO_PPO_SEED, DEMO_PPO_ITERATIONS iterations), its dataset conf/data/preset/demo.yaml (more data
-# overrides: DEMO_DATA_ARGS), the VLA conf/experiment/demo.yaml trained DEMO_VLA_STEPS steps (more VLA overrides:
-# DEMO_VLA_ARGS), closed-loop evaluation in the four unseen test rooms
+# overrides: DEMO_DATA_ARGS), the VLA conf/experiment/$(DEMO_EXPERIMENT).yaml trained DEMO_VLA_STEPS steps (more VLA
+# overrides: DEMO_VLA_ARGS), closed-loop evaluation in the four unseen test rooms
 # (conf/eval/protocol/demo.yaml: the teacher over 20 episodes; the VLA over those 20 plus 40 with seed=1, in two
 # worker processes, a core each), tables and a report with the VLA's 60-episode rate and its interval,
 # DEMO/report.md (no rollout video: it doubles the evaluation on 2 cores; add EVAL_ARGS video_episodes=1 to
@@ -238,7 +238,8 @@ lerobot: setup
 DEMO ?= outputs/demo
 DEMO_PPO_SEED ?= 42
 DEMO_PPO_ITERATIONS ?= 100
-DEMO_VLA_STEPS ?= 6000
+DEMO_EXPERIMENT ?= demo
+DEMO_VLA_STEPS ?= 9000
 DEMO_DATA_ARGS ?=
 DEMO_VLA_ARGS ?=
 DEMO_CHECKPOINT = $(DEMO)/vla/checkpoints/step_$(shell printf %08d $(DEMO_VLA_STEPS))
@@ -246,7 +247,7 @@ demo: setup
 	$(MAKE) rl ROBOT=g1 OBJECT=test/box SKILL=open ITERATIONS=$(DEMO_PPO_ITERATIONS) \
 		RL_ARGS="run_dir=$(DEMO)/rl/g1/test/box/open rl.ppo.seed=$(DEMO_PPO_SEED)"
 	$(MAKE) data ROBOT=g1 PRESET=demo DATA_ARGS="data_dir=$(DEMO)/data teacher.runs_dir=$(DEMO)/rl $(DEMO_DATA_ARGS)"
-	$(MAKE) vla ROBOT=g1 EXPERIMENT=demo VLA_ARGS="data.root=$(DEMO)/data/lerobot train.output_dir=$(DEMO)/vla train.steps=$(DEMO_VLA_STEPS) $(DEMO_VLA_ARGS)"
+	$(MAKE) vla ROBOT=g1 EXPERIMENT=$(DEMO_EXPERIMENT) VLA_ARGS="data.root=$(DEMO)/data/lerobot train.output_dir=$(DEMO)/vla train.steps=$(DEMO_VLA_STEPS) $(DEMO_VLA_ARGS)"
 	$(MAKE) eval ROBOT=g1 POLICY=teacher PROTOCOL=demo NAME=teacher \
 		EVAL_ARGS="output_dir=$(DEMO)/eval policy.runs_dir=$(DEMO)/rl"
 	$(MAKE) eval ROBOT=g1 POLICY=vla PROTOCOL=demo NAME=vla CHECKPOINT=$(DEMO_CHECKPOINT) WORKERS=2 \

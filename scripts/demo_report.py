@@ -124,18 +124,29 @@ def vla_section(demo: Path, out: Path) -> list[str]:
     return lines + ["", "![VLA loss](vla_loss.png)", ""]
 
 
-def open_loop_lines(diagnostics: dict) -> list[str]:
-    """The whole sampled chunk's error with the images against from the null vector alone: the noise error
-    barely depends on the condition (a denoiser tells noise from a smooth chunk without it), this does."""
+def open_loop_errors(diagnostics: dict) -> tuple[str, float, float] | None:
+    """The sampled chunk's held-out error with the images (its guidance scale) and from the null vector alone,
+    if logged: the noise error barely depends on the condition (a denoiser tells noise from a smooth chunk
+    without it), this does."""
     guided = next((key for key in diagnostics if key.startswith("open_loop_mse/cfg_")), None)
     if guided is None or "open_loop_mse/null_image" not in diagnostics:
+        return None
+    return (
+        guided.removeprefix("open_loop_mse/cfg_"),
+        diagnostics[guided],
+        diagnostics["open_loop_mse/null_image"],
+    )
+
+
+def open_loop_lines(diagnostics: dict) -> list[str]:
+    errors = open_loop_errors(diagnostics)
+    if errors is None:
         return []
-    with_images, without = diagnostics[guided], diagnostics["open_loop_mse/null_image"]
+    scale, with_images, without = errors
     return [
         "",
         f"Held-out open-loop error of the sampled action chunk: {with_images:.3f} with the images "
-        f"(guidance {guided.removeprefix('open_loop_mse/cfg_')}), {without:.3f} from the null vector alone "
-        f"({without - with_images:+.3f}).",
+        f"(guidance {scale}), {without:.3f} from the null vector alone ({without - with_images:+.3f}).",
     ]
 
 

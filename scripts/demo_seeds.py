@@ -22,11 +22,11 @@ import json
 from pathlib import Path
 
 from mobilemani_vla.eval.results import read_records
-from scripts.demo_report import rate_cell
+from scripts.demo_report import open_loop_errors, rate_cell
 
 VLA_HEADER = (
     "| VLA, 60 in the test rooms | VLA per room (of 15) | held-out noise error "
-    "| minus it: null image / empty instruction / no state |"
+    "| minus it: null image / empty instruction / no state | open-loop error: images / null vector |"
 )
 NULL_IMAGE_HEADER = " the same 60 with a null image |"
 NULL_IMAGE_RECORDS = ("eval_vla_null_image.jsonl", "eval_vla_null_image_seed1.jsonl")
@@ -57,7 +57,14 @@ def vla_cells(folder: Path) -> tuple[list[str], float]:
         f"{diag[f'noise_mse/{k}'] - image:+.4f}" if f"noise_mse/{k}" in diag else "-"
         for k in ("null_image", "null_instruction", "no_state")
     )
-    return [rate_cell(vla), per_room, f"{image:.4f}", gaps], sum(r["success"] for r in vla) / len(vla)
+    return [rate_cell(vla), per_room, f"{image:.4f}", gaps, open_loop_cell(diag)], sum(
+        r["success"] for r in vla
+    ) / len(vla)
+
+
+def open_loop_cell(diagnostics: dict) -> str:
+    errors = open_loop_errors(diagnostics)
+    return "-" if errors is None else f"{errors[1]:.3f} / {errors[2]:.3f}"
 
 
 def seed_cells(run: Path) -> list[str]:

@@ -80,8 +80,12 @@ def test_a_data_preset_chooses_its_groups_and_the_command_line_still_wins():
 def test_the_demo_experiment_saves_and_diagnoses_at_its_last_step():
     cfg = CONVERT["vla"](compose_root("vla", ["+experiment=demo", "train.steps=40"]))
     assert cfg.name == "demo" and cfg.model.name == "cpu" and cfg.inputs.states == ["wrist_pose"]
-    assert cfg.inputs.cameras == ["head_rgb", "head_seg", "wrist_rgb", "wrist_seg"]  # the dataset's four streams
+    assert cfg.inputs.cameras == ["head_seg", "wrist_rgb", "wrist_seg"]
     assert cfg.train.steps == cfg.train.save_every == cfg.train.diagnose_every == 40
+    rgb = CONVERT["vla"](compose_root("vla", ["+experiment=demo_rgb"]))  # RGB and the exact grasp point
+    assert rgb.inputs.cameras == ["head_rgb", "wrist_rgb"]
+    assert rgb.inputs.states == ["wrist_pose", "grasp_point"]
+    assert rgb.train.steps == rgb.train.save_every == 9000 and rgb.train.batch_size == cfg.train.batch_size
 
 
 @pytest.mark.parametrize("preset", sorted(p.stem for p in (CONF / "rl/ppo").glob("*.yaml")))

@@ -1,11 +1,11 @@
-"""The demo report names what its VLA read, from the checkpoint's config."""
+"""The demo report names what its VLA read, from the checkpoint's config, and how much its images count."""
 
 from pathlib import Path
 
 import pytest
 from omegaconf import OmegaConf
 
-from scripts.demo_report import inputs_lines
+from scripts.demo_report import inputs_lines, open_loop_errors, open_loop_lines
 
 
 def write_checkpoint_config(demo: Path, states: list[str], noise: float) -> None:
@@ -37,3 +37,11 @@ def test_the_report_says_which_states_and_how_exact_the_grasp_point(
 
 def test_no_checkpoint_no_lines(tmp_path: Path) -> None:
     assert inputs_lines(tmp_path) == []
+
+
+def test_the_open_loop_gap_is_reported_only_where_both_errors_were_logged() -> None:
+    logged = {"noise_mse/image": 0.03, "open_loop_mse/cfg_1.5": 0.057, "open_loop_mse/null_image": 0.299}
+    assert open_loop_errors(logged) == ("1.5", 0.057, 0.299)
+    assert "(+0.242)" in open_loop_lines(logged)[-1] and "guidance 1.5" in open_loop_lines(logged)[-1]
+    older = {"noise_mse/image": 0.03, "open_loop_mse/cfg_1.5": 0.057}  # before the null vector's was logged
+    assert open_loop_errors(older) is None and open_loop_lines(older) == []
