@@ -73,6 +73,7 @@ def test_a_data_preset_chooses_its_groups_and_the_command_line_still_wins():
     demo = to_dataclass(with_env_task(compose_root("data", ["data/preset=demo"])), DataCfg)
     assert demo.subset.objects == ["test/box"] and demo.teacher.kind == "ppo"  # its groups beat data.yaml's
     assert demo.collect.action_noise == 0.3 and demo.export.modalities == ["rgb", "seg"]
+    assert demo.export.workers == 2 and demo.export.combinations_per_part == 8  # two parts, one per core
     recipe = compose_root("data", ["data/preset=recipe", "data/subset=tiny", "export.width=32"])
     assert recipe.teacher.kind == "scripted" and recipe.subset.episodes == 2 and recipe.export.width == 32
 

@@ -40,8 +40,13 @@ def test_no_checkpoint_no_lines(tmp_path: Path) -> None:
 
 
 def test_the_open_loop_gap_is_reported_only_where_both_errors_were_logged() -> None:
-    logged = {"noise_mse/image": 0.03, "open_loop_mse/cfg_1.5": 0.057, "open_loop_mse/null_image": 0.299}
-    assert open_loop_errors(logged) == ("1.5", 0.057, 0.299)
+    logged = {
+        "noise_mse/image": 0.03,
+        "open_loop_mse/cfg_1": 0.071,
+        "open_loop_mse/cfg_1.5": 0.057,  # the default guidance scale: the one the VLA acts with
+        "open_loop_mse/null_image": 0.299,
+    }
+    assert open_loop_errors(logged) == (1.5, 0.057, 0.299)
     assert "(+0.242)" in open_loop_lines(logged)[-1] and "guidance 1.5" in open_loop_lines(logged)[-1]
     older = {"noise_mse/image": 0.03, "open_loop_mse/cfg_1.5": 0.057}  # before the null vector's was logged
     assert open_loop_errors(older) is None and open_loop_lines(older) == []
