@@ -22,6 +22,7 @@ from omegaconf import OmegaConf  # noqa: E402
 
 from mobilemani_data.schema import EXPORT_REPORT_FILE  # noqa: E402
 from mobilemani_rl.utils.stats import wilson_interval  # noqa: E402
+from mobilemani_vla.config import DiffusionCfg  # noqa: E402
 from mobilemani_vla.eval.results import read_records  # noqa: E402
 from scripts.plot_training_curve import plot_runs  # noqa: E402
 
@@ -124,18 +125,15 @@ def vla_section(demo: Path, out: Path) -> list[str]:
     return lines + ["", "![VLA loss](vla_loss.png)", ""]
 
 
-def open_loop_errors(diagnostics: dict) -> tuple[str, float, float] | None:
-    """The sampled chunk's held-out error with the images (its guidance scale) and from the null vector alone,
-    if logged: the noise error barely depends on the condition (a denoiser tells noise from a smooth chunk
-    without it), this does."""
-    guided = next((key for key in diagnostics if key.startswith("open_loop_mse/cfg_")), None)
-    if guided is None or "open_loop_mse/null_image" not in diagnostics:
+def open_loop_errors(diagnostics: dict) -> tuple[float, float, float] | None:
+    """The sampled chunk's held-out error with the images, at the guidance scale the VLA acts with by default,
+    and from the null vector alone, if logged: the noise error barely depends on the condition (a denoiser
+    tells noise from a smooth chunk without it), this does. -> (scale, with images, null vector)"""
+    scale = DiffusionCfg.cfg_scale
+    guided = f"open_loop_mse/cfg_{scale:g}"
+    if guided not in diagnostics or "open_loop_mse/null_image" not in diagnostics:
         return None
-    return (
-        guided.removeprefix("open_loop_mse/cfg_"),
-        diagnostics[guided],
-        diagnostics["open_loop_mse/null_image"],
-    )
+    return scale, diagnostics[guided], diagnostics["open_loop_mse/null_image"]
 
 
 def open_loop_lines(diagnostics: dict) -> list[str]:
@@ -146,7 +144,7 @@ def open_loop_lines(diagnostics: dict) -> list[str]:
     return [
         "",
         f"Held-out open-loop error of the sampled action chunk: {with_images:.3f} with the images "
-        f"(guidance {scale}), {without:.3f} from the null vector alone ({without - with_images:+.3f}).",
+        f"(guidance {scale:g}), {without:.3f} from the null vector alone ({without - with_images:+.3f}).",
     ]
 
 

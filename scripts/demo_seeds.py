@@ -7,12 +7,13 @@ Each `seed_<N>/` folder holds a run's teacher evaluation (`teacher_eval_256.json
 (`eval_teacher.jsonl`, `eval_vla.jsonl`, `eval_vla_seed1.jsonl`) and the VLA's held-out diagnostics
 (`vla_diagnostics.jsonl`), and where measured the same 60 episodes with the VLA's image feature replaced by
 its null vector (`eval_vla_null_image.jsonl`, `eval_vla_null_image_seed1.jsonl`; `policy.null_image=true`); a
-table gets that column when one of its VLAs has them. The first table gives the VLA's 60 episodes with their
-Wilson interval and the spread. Each `seed_<N>/variants/<name>/` folder holds the VLA records of one more VLA
-trained on that run's dataset with other settings (its `overrides.txt`); the next table lists them beside the
-run's own VLA. Any other `<dataset>/variants/<name>/` folder holds the same records of a VLA trained on
-another dataset, which `<dataset>/dataset.txt` names and `<dataset>/dataset_stats.json` describes; each such
-dataset gets a table of its own.
+table gets that column when one of its VLAs has them, and the open-loop column (the sampled chunk's held-out
+error with the images and from the null vector alone) when one of its VLAs logged both. The first table gives
+the VLA's 60 episodes with their Wilson interval and the spread. Each `seed_<N>/variants/<name>/` folder holds
+the VLA records of one more VLA trained on that run's dataset with other settings (its `overrides.txt`); the
+next table lists them beside the run's own VLA. Any other `<dataset>/variants/<name>/` folder holds the same
+records of a VLA trained on another dataset, which `<dataset>/dataset.txt` names and
+`<dataset>/dataset_stats.json` describes; each such dataset gets a table of its own.
 """
 
 from __future__ import annotations
@@ -26,8 +27,9 @@ from scripts.demo_report import open_loop_errors, rate_cell
 
 VLA_HEADER = (
     "| VLA, 60 in the test rooms | VLA per room (of 15) | held-out noise error "
-    "| minus it: null image / empty instruction / no state | open-loop error: images / null vector |"
+    "| minus it: null image / empty instruction / no state |"
 )
+OPEN_LOOP_HEADER = " open-loop error: images / null vector |"
 NULL_IMAGE_HEADER = " the same 60 with a null image |"
 NULL_IMAGE_RECORDS = ("eval_vla_null_image.jsonl", "eval_vla_null_image_seed1.jsonl")
 
@@ -51,19 +53,21 @@ def vla_cells(folder: Path) -> tuple[list[str], float]:
     vla = episodes(folder, ("eval_vla.jsonl", "eval_vla_seed1.jsonl"))
     rooms = sorted({r["scene"] for r in vla})
     per_room = "/".join(str(sum(r["success"] for r in vla if r["scene"] == room)) for room in rooms)
-    diag = json.loads((folder / "vla_diagnostics.jsonl").read_text().splitlines()[-1])
+    diag = last_diagnostics(folder)
     image = diag["noise_mse/image"]
     gaps = " / ".join(
         f"{diag[f'noise_mse/{k}'] - image:+.4f}" if f"noise_mse/{k}" in diag else "-"
         for k in ("null_image", "null_instruction", "no_state")
     )
-    return [rate_cell(vla), per_room, f"{image:.4f}", gaps, open_loop_cell(diag)], sum(
-        r["success"] for r in vla
-    ) / len(vla)
+    return [rate_cell(vla), per_room, f"{image:.4f}", gaps], sum(r["success"] for r in vla) / len(vla)
 
 
-def open_loop_cell(diagnostics: dict) -> str:
-    errors = open_loop_errors(diagnostics)
+def last_diagnostics(folder: Path) -> dict:
+    return json.loads((folder / "vla_diagnostics.jsonl").read_text().splitlines()[-1])
+
+
+def open_loop_cell(folder: Path) -> str:
+    errors = open_loop_errors(last_diagnostics(folder))
     return "-" if errors is None else f"{errors[1]:.3f} / {errors[2]:.3f}"
 
 
@@ -75,12 +79,23 @@ def seed_cells(run: Path) -> list[str]:
 
 
 def vla_table(first_header: str, rows: list[tuple[list[str], Path]]) -> None:
-    """One row per (first cells, VLA folder), with the null-image column where one of them has it."""
-    null = has_null_image([folder for _, folder in rows])
+    """One row per (first cells, VLA folder), with the null-image and open-loop columns where one of them has
+    those records."""
+    folders = [folder for _, folder in rows]
+    null = has_null_image(folders)
+    open_loop = any(open_loop_cell(folder) != "-" for folder in folders)
     print_table(
-        first_header + VLA_HEADER + (NULL_IMAGE_HEADER if null else ""),
+        first_header
+        + VLA_HEADER
+        + (NULL_IMAGE_HEADER if null else "")
+        + (OPEN_LOOP_HEADER if open_loop else ""),
         [
-            [*first, *vla_cells(folder)[0], *([null_image_cell(folder)] if null else [])]
+            [
+                *first,
+                *vla_cells(folder)[0],
+                *([null_image_cell(folder)] if null else []),
+                *([open_loop_cell(folder)] if open_loop else []),
+            ]
             for first, folder in rows
         ],
     )
