@@ -83,7 +83,8 @@ def vla_table(first_header: str, rows: list[tuple[list[str], Path]]) -> None:
     those records."""
     folders = [folder for _, folder in rows]
     null = has_null_image(folders)
-    open_loop = any(open_loop_cell(folder) != "-" for folder in folders)
+    open_loop_cells = [open_loop_cell(folder) for folder in folders]  # each record read once
+    open_loop = any(cell != "-" for cell in open_loop_cells)
     print_table(
         first_header
         + VLA_HEADER
@@ -94,9 +95,9 @@ def vla_table(first_header: str, rows: list[tuple[list[str], Path]]) -> None:
                 *first,
                 *vla_cells(folder)[0],
                 *([null_image_cell(folder)] if null else []),
-                *([open_loop_cell(folder)] if open_loop else []),
+                *([loop_cell] if open_loop else []),
             ]
-            for first, folder in rows
+            for (first, folder), loop_cell in zip(rows, open_loop_cells, strict=True)
         ],
     )
 
