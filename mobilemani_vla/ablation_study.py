@@ -15,8 +15,10 @@ Diffusion Policy, SmolVLA from scratch: `python -m mobilemani_vla.lerobot_train`
 dataset, the same inputs as the main row, then the same evaluation with `eval/policy=lerobot`; their training
 is stopped at the deadline and resumes from its last checkpoint, saved every 1/60 of its steps, the older ones
 deleted). Training and evaluation resume where a call stopped, so rerunning
-the same command continues the study; a training piece starts only with `MIN_PIECE_MINUTES` left. Every call
-ends by writing the paper's VLA tables (`make tables`' `vla/`) from every result so far.
+the same command continues the study; a training piece starts only with `MIN_PIECE_MINUTES` left. A row whose
+evaluations are all in the results directory (`--eval output_dir=DIR`; docs/results/ablation/eval holds ours)
+is not trained again, checkpoint or not. Every call ends by writing the paper's VLA tables (`make tables`'
+`vla/`) from every result so far.
 
 Scales: `cpu` adds `vla/model=cpu vla/train=ablation_cpu` (2 CPU cores; docs/results/ablation.md) and trains
 the baselines with `--preset=cpu` for about the main row's training time; `paper` keeps the experiments' own
@@ -235,23 +237,37 @@ Job = tuple[Callable[[Budget], bool], list[EvalCfg]]  # (train within a budget: 
 
 
 def study_jobs(args: argparse.Namespace) -> list[Job]:
-    """The jobs of `args.rows` in the study's order, every config composed and checked."""
+    """The unfinished jobs of `args.rows` in the study's order, every config composed and checked."""
     overrides = [*SCALES[args.scale], *args.train]
     dataset = row_training(MAIN_ROW, overrides)  # the baselines train on the main row's dataset
     trainings = {row: row_training(row, overrides) for row in args.rows if row not in BASELINES}
     baselines = {row: baseline_flags(row, dataset, args) for row in args.rows if row in BASELINES}
     jobs: list[Job] = []
+    to_train: set[str] = set()
     for row, splits in JOBS:
         if row in trainings:
             cfg = trainings[row]
             evaluations = [split_evaluation(row, s, final_checkpoint(cfg), args) for s in splits]
-            jobs.append((partial(train_row, cfg), evaluations))
+            train_job = partial(train_row, cfg)
         elif row in baselines:
             checkpoint = baseline_checkpoint(baselines[row])
             evaluations = [split_evaluation(row, s, checkpoint, args, "lerobot") for s in splits]
-            jobs.append((partial(train_baseline, row, baselines[row]), evaluations))
-    untrained = [cfg for cfg in trainings.values() if not final_checkpoint(cfg).is_dir()]
-    untrained_baselines = [f for f in baselines.values() if not baseline_checkpoint(f).is_dir()]
+            train_job = partial(train_baseline, row, baselines[row])
+        else:
+            continue
+        # Evaluations already recorded (kept with the results, e.g. committed) need no checkpoint: their
+        # row is trained again only for a split it still lacks.
+        if not all(evaluated(cfg) for cfg in evaluations):
+            jobs.append((train_job, evaluations))
+            to_train.add(row)
+    untrained = [
+        cfg for row, cfg in trainings.items() if row in to_train and not final_checkpoint(cfg).is_dir()
+    ]
+    untrained_baselines = [
+        flags
+        for row, flags in baselines.items()
+        if row in to_train and not baseline_checkpoint(flags).is_dir()
+    ]
     check_training_data([*untrained, dataset] if untrained_baselines else untrained)
     for flags in untrained_baselines:
         check_arguments(flags)

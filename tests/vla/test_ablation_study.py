@@ -1,6 +1,7 @@
 """The ablation study as one resumable command: rows trained and evaluated in order within a time budget,
 then the paper's tables."""
 
+import shutil
 import sys
 
 import pytest
@@ -151,3 +152,33 @@ def test_a_baseline_trains_with_lerobot_and_joins_the_model_table(tmp_path, monk
 
     ablation_study.main()  # done: nothing trains or runs again
     assert "== " not in capsys.readouterr().out
+
+
+def test_a_row_with_recorded_evaluations_is_not_trained_again(tmp_path, monkeypatch, capsys):
+    run_study(monkeypatch, tmp_path, "--minutes", "60")
+    capsys.readouterr()
+    # The evaluations kept, checkpoints and dataset gone (a fresh clone with the committed results): nothing
+    # to train, nothing asks for the dataset, and the tables are written again from the records.
+    shutil.rmtree(tmp_path / "vla")
+    shutil.rmtree(tmp_path / "tables")
+    argv = ["ablation_study", "--scale", "paper", "--rows", "ablation_image_all", "ablation_image_head_rgb"]
+    argv += ["--episodes", "1", "--workers", "1", "--tables", str(tmp_path / "tables")]
+    argv += ["--train", f"data.root={tmp_path / 'none'}", "--eval", *tiny_evaluation(tmp_path)]
+    monkeypatch.setattr(sys, "argv", argv)
+    ablation_study.main()
+    out = capsys.readouterr().out
+    assert "== " not in out and "are trained and evaluated" in out
+    assert (
+        "g1/ablation_image_head_rgb: tiny model"
+        in (tmp_path / "tables" / "vla_ablation_image.md").read_text()
+    )
+    # A split that lacks its records trains its row again, and only that row.
+    for name in ("test_objects_train_scenes.jsonl", "test_objects_train_scenes.summary.json"):
+        (tmp_path / "eval/g1/ablation_image_all" / name).unlink()
+    run_study(monkeypatch, tmp_path, "--minutes", "60")
+    out = capsys.readouterr().out
+    assert [line.split(" (this piece")[0] for line in out.splitlines() if line.startswith("== ")] == [
+        "== ablation_image_all: training to step 2",
+        "== ablation_image_all: evaluating on test_objects_train_scenes",
+    ]
+    assert not (tmp_path / "vla" / "ablation_image_head_rgb").exists()
