@@ -157,7 +157,7 @@ def test_a_baseline_trains_with_lerobot_and_joins_the_model_table(tmp_path, monk
 def test_a_row_with_recorded_evaluations_is_not_trained_again(tmp_path, monkeypatch, capsys):
     run_study(monkeypatch, tmp_path, "--minutes", "60")
     capsys.readouterr()
-    # The evaluations kept, checkpoints and dataset gone (a fresh clone with the committed results): nothing
+    # The evaluations kept, checkpoints gone, no dataset at data.root (a clone with the results): nothing
     # to train, nothing asks for the dataset, and the tables are written again from the records.
     shutil.rmtree(tmp_path / "vla")
     shutil.rmtree(tmp_path / "tables")
