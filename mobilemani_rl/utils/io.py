@@ -4,6 +4,7 @@ training label)."""
 
 from __future__ import annotations
 
+import hashlib
 import json
 import os
 import tempfile
@@ -33,6 +34,17 @@ def replace_synced(tmp: Path, path: Path, synced: Path) -> None:
     finally:
         os.close(fd)
     os.replace(tmp, path)
+
+
+def files_sha256(paths: list[Path]) -> str:
+    """One sha256 over the files' bytes, in the given order: what identifies a model's weights, whatever path
+    they are saved under (a retrained model reuses its predecessor's checkpoint names)."""
+    digest = hashlib.sha256()
+    for path in paths:
+        with path.open("rb") as f:
+            while chunk := f.read(1 << 20):
+                digest.update(chunk)
+    return digest.hexdigest()
 
 
 def read_json(path: Path) -> Any:

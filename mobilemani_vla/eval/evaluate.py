@@ -133,10 +133,13 @@ RESULT_SETTINGS = (
 )
 
 
-def check_same_settings(out: Path, settings: dict, task_checkpoints: dict[str, str]) -> dict[str, str]:
-    """A run directory that holds results keeps the settings they were made with, and each task's looked-up
-    checkpoint (a teacher trained on since is found anew): a rerun otherwise would report the old episodes as
-    its own. Returns the task checkpoints of the old episodes and the new."""
+def check_same_settings(
+    out: Path, settings: dict, task_checkpoints: dict[str, str], training: dict
+) -> dict[str, str]:
+    """A run directory that holds results keeps the settings they were made with, each task's looked-up
+    checkpoint (a teacher trained on since is found anew) and the policy's weights (a model trained again
+    under the same checkpoint path): a rerun otherwise would report the old episodes as its own. Returns the
+    task checkpoints of the old episodes and the new."""
     saved = out / "config.json"
     if not saved.exists() or not any(p.stat().st_size for p in out.glob("*.jsonl")):
         return task_checkpoints
@@ -148,6 +151,11 @@ def check_same_settings(out: Path, settings: dict, task_checkpoints: dict[str, s
         for task, path in task_checkpoints.items()
         if before.get(task, path) != path
     ]
+    # Results recorded before weights had digests cannot be told apart: they are taken as they are.
+    weights_before = config.get("policy_training", {}).get("weights_sha256")
+    weights_now = training.get("weights_sha256")
+    if weights_before and weights_now and weights_before != weights_now:
+        changes.append(f"policy weights sha256 {weights_before[:12]}... -> {weights_now[:12]}...")
     if changes:
         raise ConfigMismatchError(
             f"{out} holds results made with other settings ({'; '.join(changes)}); "
@@ -196,7 +204,7 @@ def evaluate(cfg: EvalCfg, policy: EvalPolicy | None = None) -> dict:
         )
     check_action_index(cfg.ensemble.action_index, policy.chunk_length)
     tasks = {(c.robot, c.object_id, c.skill) for c in combos}
-    checkpoints = check_same_settings(out, settings, policy.check_tasks(tasks))
+    checkpoints = check_same_settings(out, settings, policy.check_tasks(tasks), policy.training or {})
     with ResultsFile(out / f"{cfg.split_name}.jsonl") as results:
         config = {
             "eval": settings,

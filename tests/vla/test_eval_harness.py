@@ -12,6 +12,7 @@ import pytest
 from checkout import ROOT
 from hydra import compose, initialize_config_dir
 from omegaconf import OmegaConf
+from safetensors.torch import load_file, save_file
 
 from mobilemani_rl.envs.base_frame import action_to_base
 from mobilemani_rl.envs.config import EnvCfg, TaskCfg, with_env_task
@@ -365,6 +366,14 @@ def test_tiny_vla_runs_the_protocol_end_to_end(tmp_path):
     assert training["image_size"] == [48, 64] and training["train_episodes"] >= 1
     assert len(list((run / "videos").rglob("*.mp4"))) == 1
     assert summary["nan_action_entries"] == 0 and all(r["nan_actions"] == 0 for r in records)
+    # New weights under the same checkpoint path (a model trained again) are not counted into these results.
+    assert evaluate(cfg)["episodes"] == 2  # the same weights: nothing to run
+    weights = checkpoint / "model.safetensors"
+    retrained = {k: t + 1 if t.is_floating_point() else t for k, t in load_file(weights).items()}
+    save_file(retrained, weights)
+    with pytest.raises(ConfigMismatchError, match="policy weights sha256 .* -> "):
+        evaluate(cfg)
+    assert len(read_records(run / "test_objects_test_scenes.jsonl")) == 2
     # A g1 checkpoint on xhand stops before anything is written (7-d actions for an 18-d robot).
     xhand = eval_cfg(tmp_path / "xhand", [f"policy.checkpoint={checkpoint}", "robot=xhand", "name=tiny_vla"])
     with pytest.raises(ValueError, match="7-d actions but robot=xhand takes 18-d"):

@@ -24,7 +24,7 @@ import torch.nn.functional as F
 from mobilemani_data import schema
 from mobilemani_rl.envs.mobilemani_env import MobileManiEnv
 from mobilemani_rl.utils.errors import MissingFileError
-from mobilemani_rl.utils.io import read_json
+from mobilemani_rl.utils.io import files_sha256, read_json
 from mobilemani_vla.eval.policies.base import TASK, EvalPolicy, Observation, active_rows, scatter_rows
 
 
@@ -122,12 +122,16 @@ class LeRobotEvalPolicy(EvalPolicy):
 def lerobot_training_scale(pretrained: Path, policy_type: str) -> dict:
     """How much training a `lerobot-train` checkpoint holds, from the step it records beside
     `pretrained_model` and its training config's batch (per process); only the policy type where the step is
-    not there (a pretrained_model copied on its own)."""
+    not there (a pretrained_model copied on its own); always the digest of its weights."""
+    identity = {
+        "model": policy_type,
+        "weights_sha256": files_sha256(sorted(pretrained.glob("*.safetensors"))),
+    }
     state = pretrained.parent / "training_state" / "training_step.json"
     if not state.is_file():
-        return {"model": policy_type}
+        return identity
     recorded = read_json(state)
     per_process = recorded.get("batch_size") or read_json(pretrained / "train_config.json")["batch_size"]
     batch = per_process * (recorded.get("num_processes") or 1)
     step = recorded["step"]
-    return {"model": policy_type, "steps": step, "batch_size": batch, "samples": step * batch}
+    return {**identity, "steps": step, "batch_size": batch, "samples": step * batch}
