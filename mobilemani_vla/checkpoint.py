@@ -26,7 +26,7 @@ from torch.optim.swa_utils import AveragedModel
 from transformers import PaliGemmaConfig, PreTrainedTokenizerBase
 
 from mobilemani_rl.utils.errors import InputError, MissingFileError
-from mobilemani_rl.utils.io import files_sha256, read_json
+from mobilemani_rl.utils.io import read_json, weights_sha256
 from mobilemani_vla.config import VLACfg, vla_cfg_from_yaml, vla_cfg_to_yaml
 from mobilemani_vla.model.network import MobileManiVLA, build_model
 from mobilemani_vla.model.normalizer import Normalizer
@@ -135,7 +135,7 @@ def training_scale(directory: str | Path, cfg: VLACfg) -> dict:
         "samples": step * cfg.train.batch_size,
         "train_episodes": len(dataset["train_episodes"]),
         "image_size": dataset.get("image_size"),
-        "weights_sha256": files_sha256(sorted(directory.glob("*.safetensors"))),
+        "weights_sha256": weights_sha256(directory),
     }
 
 

@@ -36,11 +36,11 @@ def replace_synced(tmp: Path, path: Path, synced: Path) -> None:
     os.replace(tmp, path)
 
 
-def files_sha256(paths: list[Path]) -> str:
-    """One sha256 over the files' bytes, in the given order: what identifies a model's weights, whatever path
-    they are saved under (a retrained model reuses its predecessor's checkpoint names)."""
+def weights_sha256(directory: Path) -> str:
+    """One sha256 over the bytes of a checkpoint directory's safetensors files, in name order: what identifies
+    a model's weights, whatever path they are saved under (a retrained model reuses the old names)."""
     digest = hashlib.sha256()
-    for path in paths:
+    for path in sorted(directory.glob("*.safetensors")):
         with path.open("rb") as f:
             while chunk := f.read(1 << 20):
                 digest.update(chunk)

@@ -24,7 +24,7 @@ import torch.nn.functional as F
 from mobilemani_data import schema
 from mobilemani_rl.envs.mobilemani_env import MobileManiEnv
 from mobilemani_rl.utils.errors import MissingFileError
-from mobilemani_rl.utils.io import files_sha256, read_json
+from mobilemani_rl.utils.io import read_json, weights_sha256
 from mobilemani_vla.eval.policies.base import TASK, EvalPolicy, Observation, active_rows, scatter_rows
 
 
@@ -123,10 +123,7 @@ def lerobot_training_scale(pretrained: Path, policy_type: str) -> dict:
     """How much training a `lerobot-train` checkpoint holds, from the step it records beside
     `pretrained_model` and its training config's batch (per process); only the policy type where the step is
     not there (a pretrained_model copied on its own); always the digest of its weights."""
-    identity = {
-        "model": policy_type,
-        "weights_sha256": files_sha256(sorted(pretrained.glob("*.safetensors"))),
-    }
+    identity = {"model": policy_type, "weights_sha256": weights_sha256(pretrained)}
     state = pretrained.parent / "training_state" / "training_step.json"
     if not state.is_file():
         return identity
