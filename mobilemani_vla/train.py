@@ -201,11 +201,12 @@ def piece_over(cfg: TrainCfg, start: float, accelerator: Accelerator) -> bool:
     return accelerator.reduce(torch.tensor(over, device=accelerator.device), reduction="sum").item() > 0
 
 
-def _trim_log(path: Path, step: int) -> None:
-    """Drop diagnostics a killed run wrote after the checkpoint it resumes from."""
+def trim_diagnostics(path: Path, start: int) -> None:
+    """Drop the diagnostics a killed run wrote after the checkpoint this run resumes from (start > 0), or all
+    of them when it starts afresh (start == 0: it measures step 0 again)."""
     if path.is_file():
-        lines = [line for line in path.read_text().splitlines() if json.loads(line)["step"] <= step]
-        path.write_text("".join(line + "\n" for line in lines))
+        lines = path.read_text().splitlines() if start > 0 else []
+        path.write_text("".join(line + "\n" for line in lines if json.loads(line)["step"] <= start))
 
 
 def train(cfg: VLACfg) -> TrainResult:
@@ -285,7 +286,7 @@ def _train(cfg: VLACfg, held: ExitStack) -> TrainResult:
     diagnostics_log = output_dir / "diagnostics.jsonl"
     diagnose_batch = None
     if accelerator.is_main_process and cfg.train.diagnose_every > 0 and data.heldout is not None:
-        _trim_log(diagnostics_log, start)
+        trim_diagnostics(diagnostics_log, start)
         diagnose_batch = {
             k: v.to(accelerator.device)
             for k, v in heldout_batch(data.heldout, cfg.train.diagnose_frames, processor).items()

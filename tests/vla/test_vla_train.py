@@ -26,7 +26,7 @@ from mobilemani_vla.inference import VLAPolicy
 from mobilemani_vla.model.network import build_model
 from mobilemani_vla.model.processor import VLAProcessor, camera_key, resize_images
 from mobilemani_vla.model.tokenizer import build_word_tokenizer
-from mobilemani_vla.train import train
+from mobilemani_vla.train import train, trim_diagnostics
 
 CONF = str(ROOT / "conf")
 EXPERIMENTS = sorted(p.stem for p in (Path(CONF) / "experiment").glob("ablation_*.yaml"))
@@ -412,6 +412,15 @@ def test_a_training_piece_stops_at_its_time_with_a_checkpoint_the_next_piece_res
     assert "train_loss" not in diagnostics[0]  # the untrained model's has no training behind it
     assert diagnostics[1]["train_loss"] == pytest.approx(piece.losses[0])
     assert diagnostics[-1]["train_loss"] == pytest.approx(np.mean(rest.losses[-2:]))
+
+
+def test_diagnostics_of_a_killed_run_are_trimmed_to_where_the_rerun_starts(tmp_path):
+    log = tmp_path / "diagnostics.jsonl"
+    log.write_text("".join(json.dumps({"step": s, "noise_mse/image": 1.0}) + "\n" for s in (0, 1000, 2000)))
+    trim_diagnostics(log, 1000)  # resumed from the step-1000 checkpoint: the step-2000 line goes
+    assert [json.loads(line)["step"] for line in log.read_text().splitlines()] == [0, 1000]
+    trim_diagnostics(log, 0)  # killed before its first checkpoint: the rerun measures step 0 again
+    assert log.read_text() == ""
 
 
 @pytest.mark.slow
