@@ -50,6 +50,36 @@ def normalize_to_limits(values: np.ndarray, limits: np.ndarray) -> np.ndarray:
     return 2.0 * (values - low) / (high - low) - 1.0
 
 
+class _ColumnWriter:
+    """Fills an observation buffer block by block, left to right, so that no block is first concatenated
+    into a float64 copy. Assigning casts to float32, and rounding is monotonic, so clipping afterwards in
+    float32 gives the same values as clipping in float64 and casting."""
+
+    def __init__(self, out: np.ndarray) -> None:
+        self.out, self.column = out, 0
+
+    def add(self, *blocks: np.ndarray) -> None:
+        """(n, w) blocks, one after another."""
+        for block in blocks:
+            width = block.shape[1]
+            self.out[:, self.column : self.column + width] = block
+            self.column += width
+
+    def add_interleaved(self, *parts: np.ndarray) -> None:
+        """Parts (n, k, w_i) or (n, k) of k items, written item after item, each item's parts in order
+        (as concatenating them on their last axis and flattening would)."""
+        parts = tuple(p[..., None] if p.ndim == 2 else p for p in parts)
+        n, items = parts[0].shape[:2]
+        width = sum(p.shape[2] for p in parts)
+        # splitting the row's slice into (items, width) is always a view: the writes reach the buffer
+        view = self.out[:, self.column : self.column + items * width].reshape(n, items, width)
+        offset = 0
+        for p in parts:
+            view[:, :, offset : offset + p.shape[2]] = p
+            offset += p.shape[2]
+        self.column += items * width
+
+
 def compute_observation(
     frames: Frames,
     distances: TaskDistances,
@@ -60,25 +90,23 @@ def compute_observation(
     clip: float,
 ) -> np.ndarray:
     n, num_fingers = frames.finger_pos.shape[:2]
+    num_joints = frames.joint_pos.shape[1]
     # One Euler conversion for palm, fingers and object link: fewer small numpy calls per step.
     euler = euler_from_quat(
         np.concatenate((frames.palm_quat[:, None], frames.finger_quat, frames.grasp_quat[:, None]), axis=1)
     )
-    palm = np.concatenate((frames.palm_pos, euler[:, 0], frames.palm_linvel, frames.palm_angvel), axis=1)
-    fingers = np.concatenate(
-        (frames.finger_pos, euler[:, 1:-1], frames.finger_linvel, frames.finger_angvel), axis=2
-    ).reshape(n, 12 * num_fingers)
-    joints = np.stack(
-        (normalize_to_limits(frames.joint_pos, joint_limits), frames.joint_vel, frames.joint_acc), axis=2
-    ).reshape(n, 3 * frames.joint_pos.shape[1])
+    dim = observation_dim(last_action.shape[1], num_fingers, distances.body.shape[1], num_joints)
+    obs = np.empty((n, dim), np.float32)
+    columns = _ColumnWriter(obs)
     grasp = frames.grasp_pos
-    robot_object = np.concatenate(
-        (distances.hand[:, None], distances.finger, distances.body, grasp - frames.palm_pos), axis=1
+    columns.add(time_encoding(steps), last_action)
+    columns.add(frames.palm_pos, euler[:, 0], frames.palm_linvel, frames.palm_angvel)
+    columns.add_interleaved(frames.finger_pos, euler[:, 1:-1], frames.finger_linvel, frames.finger_angvel)
+    columns.add_interleaved(
+        normalize_to_limits(frames.joint_pos, joint_limits), frames.joint_vel, frames.joint_acc
     )
-    obj = np.concatenate((grasp, euler[:, -1], goal_pos - grasp), axis=1)
-    obs = np.concatenate(
-        (time_encoding(steps), last_action, palm, fingers, joints, robot_object, obj), axis=1
-    )
+    columns.add(distances.hand[:, None], distances.finger, distances.body, grasp - frames.palm_pos)
+    columns.add(grasp, euler[:, -1], goal_pos - grasp)
     np.clip(obs, -clip, clip, out=obs)  # ±inf become ±clip
-    obs[np.isnan(obs)] = 0.0
-    return obs.astype(np.float32)
+    np.copyto(obs, 0.0, where=np.isnan(obs))
+    return obs

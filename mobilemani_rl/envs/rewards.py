@@ -11,6 +11,7 @@ from mobilemani_rl.envs.config import RewardWeights, SuccessCfg
 from mobilemani_rl.envs.frames import EnvRows, Frames
 from mobilemani_rl.utils.rotations import (
     euler_from_quat,
+    mean_last,
     quat_between_vectors,
     quat_conj,
     quat_mul,
@@ -36,11 +37,11 @@ class TaskDistances(EnvRows):
 
     @property
     def fingers(self) -> np.ndarray:
-        return self.finger.mean(axis=1)
+        return mean_last(self.finger)
 
     @property
     def bodies(self) -> np.ndarray:
-        return self.body.mean(axis=1)
+        return mean_last(self.body)
 
     @classmethod
     def measure(cls, frames: Frames, goal_pos: np.ndarray) -> TaskDistances:
