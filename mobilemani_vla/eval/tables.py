@@ -6,7 +6,8 @@ Reads <root>/<robot>/<run>/<split>.jsonl written by `python -m mobilemani_vla.ev
 `name`, by convention the training experiment's name) and writes Markdown + LaTeX for: success per skill and
 per category (run `--main`, unseen objects x unseen scenes), the image- and state-input ablations (runs named
 like conf/experiment/ablation_*), seen/unseen objects x scenes (run `--split-run`, its four split files) and
-the model comparison (runs named in MODELS, then every other run), plus PNG bar plots. Paper numbers sit
+the model comparison (runs named in MODELS, then every other run), the paper's takeaways 4-6 tested on these
+runs (`mobilemani_vla.eval.takeaways`), plus PNG bar plots. Paper numbers sit
 beside ours, a one-number row's with its 95% interval and episode count, and each caption states the training
 scale of the runs it shows, as their evaluations recorded it; a '-' marks a result not evaluated yet, and the
 results files those cells wanted are listed at the end; `--out` is checked for writability before any result
@@ -30,79 +31,25 @@ from mobilemani_rl.utils.cli import entry_point
 from mobilemani_rl.utils.io import check_writable, read_json
 from mobilemani_rl.utils.table_format import Table, pct
 from mobilemani_vla.config import CAMERAS, STATES
+from mobilemani_vla.eval.paper import (
+    IMAGE_ABLATION,
+    MODELS,
+    PAPER_BY_CATEGORY,
+    PAPER_BY_SKILL,
+    PROTOCOL_SPLIT,
+    SPLIT_RUN,
+    SPLITS,
+    STATE_ABLATION,
+)
 from mobilemani_vla.eval.results import SKILL_GROUPS, finished, read_records, summarize
+from mobilemani_vla.eval.takeaways import takeaway_table
 
 ROBOTS = ("g1", "xhand")
 SKILLS = ("open", "close", "pull", "push", "pick")
 COLORS = {"g1": "tab:blue", "xhand": "tab:red"}  # ours solid, the paper's the same colour faded
 GROUPS = tuple(dict.fromkeys(SKILL_GROUPS.values()))  # open/pull/pick, close/push
-PROTOCOL_SPLIT = "test_objects_test_scenes"
-# Paper, MobileManiVLA per skill (G1, XHand) and mean.
-PAPER_BY_SKILL = {
-    "open": (42.9, 34.5),
-    "close": (75.8, 77.5),
-    "pull": (34.4, 29.4),
-    "push": (85.1, 90.0),
-    "pick": (28.8, 40.2),
-    "mean": (56.7, 57.3),
-}
-# Paper, MobileManiVLA per category: open/pull/pick G1, XHand; close/push G1, XHand.
-PAPER_BY_CATEGORY = {
-    "box": (55.0, 22.5, 61.9, 95.0),
-    "toilet": (63.5, 42.0, 64.5, 95.0),
-    "laptop": (74.6, 64.6, 67.9, 98.8),
-    "trashcan": (41.4, 37.9, 51.8, 76.4),
-    "dishwasher": (93.5, 86.0, 99.5, 97.0),
-    "oven": (93.8, 77.5, 90.0, 97.5),
-    "microwave": (32.5, 42.5, 42.2, 85.0),
-    "refrigerator": (18.1, 12.8, 91.3, 77.5),
-    "washing_machine": (40.0, 67.5, 65.0, 67.5),
-    "car": (28.7, 26.2, 97.5, 90.0),
-    "safe": (35.6, 30.0, 96.9, 98.8),
-    "fridge": (37.5, 10.0, 95.0, 95.0),
-    "cabinet": (40.0, 33.8, 91.2, 91.2),
-    "window": (34.2, 11.7, 90.8, 94.2),
-    "lever_door": (55.6, 58.1, 94.0, 94.5),
-    "round_door": (41.0, 71.5, 92.5, 95.7),
-    "faucet": (41.4, 31.7, 34.3, 38.1),
-    "table": (25.8, 19.7, 96.4, 93.9),
-    "cart": (34.4, 29.4, 85.0, 90.0),
-    "holistic": (28.8, 40.2, None, None),
-}
-# Ablation rows: run name, cameras, states, paper success (G1, ablation subset).
-IMAGE_ABLATION = [
-    ("ablation_image_head_rgb", CAMERAS[:1], STATES[:1], 7.9),
-    ("ablation_image_head_rgbd", CAMERAS[:2], STATES[:1], 14.1),
-    ("ablation_image_head_wrist_rgb", ("head_rgb", "wrist_rgb"), STATES[:1], 14.9),
-    ("ablation_image_all", CAMERAS, STATES[:1], 28.2),
-]
-STATE_ABLATION = [
-    ("ablation_state_none", CAMERAS, (), 22.4),
-    ("ablation_image_all", CAMERAS, STATES[:1], 28.2),  # the main model, as the image table's last row
-    ("ablation_state_grasp_point", CAMERAS, STATES[:2], 32.3),
-    ("ablation_state_goal_point", CAMERAS, STATES, 36.6),
-]
 # Our side of a one-number row: the success (mean over objects), its interval over the pooled episodes.
 RATE_COLUMNS = ("Success", "95% CI", "Episodes")
-# Seen/unseen rows: split file, label, paper success.
-SPLITS = [
-    ("train_objects_train_scenes", "seen objects, seen scenes", 59.6),
-    ("train_objects_test_scenes", "seen objects, unseen scenes", 51.3),
-    ("test_objects_train_scenes", "unseen objects, seen scenes", 39.2),
-    (PROTOCOL_SPLIT, "unseen objects, unseen scenes", 28.2),
-]
-# Model comparison: label, run name, paper success (G1, ablation subset; None: not in the paper). The stock
-# LeRobot policies are the ablation study's baselines (mobilemani_vla.ablation_study).
-MODELS = [
-    ("OpenVLA (7B)", "openvla", 4.5),
-    ("CogACT (7B)", "cogact", 6.8),
-    ("pi0 (3B)", "pi0", 11.2),
-    ("pi0.5 (3B)", "pi05", 18.8),
-    ("ACT", "ablation_act", None),
-    ("Diffusion Policy", "ablation_diffusion", None),
-    ("SmolVLA (from scratch)", "ablation_smolvla", None),
-    ("MobileManiVLA", "ablation_image_all", 28.2),
-]
 
 
 class RecordingResults(dict):
@@ -129,14 +76,15 @@ class RecordingResults(dict):
 
 
 def load(root: Path) -> RecordingResults:
-    """(robot, run, split) -> summary of that results file, whether its evaluation ran to its end, and the
-    training its policy holds as the evaluation recorded it (empty for untrained policies)."""
+    """(robot, run, split) -> summary of that results file, its records, whether its evaluation ran to its
+    end, and the training its policy holds as the evaluation recorded it (empty for untrained policies)."""
     loaded = {}
     for path in sorted(root.glob("*/*/*.jsonl")):
         records = read_records(path)
         config = path.with_name("config.json")
         loaded[(path.parts[-3], path.parts[-2], path.stem)] = {
             **summarize(records),
+            "records": records,
             "finished": finished(path, records),
             "training": read_json(config).get("policy_training", {}) if config.is_file() else {},
         }
@@ -358,6 +306,7 @@ def build_tables(results: RecordingResults, main_run: str, split_run: str) -> di
         ),
         "vla_seen_unseen": lambda: split_table(results, split_run),
         "vla_models": lambda: model_table(results),
+        "vla_takeaways": lambda: takeaway_table(results),
     }
     return {name: annotated(results, build) for name, build in builders.items()}
 
@@ -412,7 +361,7 @@ def main() -> None:
     parser.add_argument("root", nargs="?", type=Path, default=Path("outputs/eval"))
     parser.add_argument("--out", type=Path, default=Path("outputs/tables/vla"))
     parser.add_argument("--main", default="default", help="run of the per-skill and per-category tables")
-    parser.add_argument("--split-run", default="ablation_image_all", help="run of the seen/unseen table")
+    parser.add_argument("--split-run", default=SPLIT_RUN, help="run of the seen/unseen table")
     args = parser.parse_args()
     write_tables(args.root, args.out, args.main, args.split_run)
 

@@ -3,6 +3,9 @@
 import json
 from pathlib import Path
 
+import pytest
+
+from mobilemani_rl.utils.stats import mcnemar_p, two_proportion_p
 from mobilemani_vla.eval import tables as vla_tables
 from mobilemani_vla.eval.results import read_records, summarize, summary_path
 from mobilemani_vla.eval.tables import PROTOCOL_SPLIT, bar_plots, build_tables, load
@@ -177,3 +180,42 @@ def test_tables_mark_what_they_count_from_unfinished_evaluations(tmp_path, monke
     assert (
         "unfinished evaluations (still running or stopped; rerun `make eval` to finish): g1/default/" in out
     )
+
+
+def test_takeaway_tests_pair_shared_episodes_and_compare_different_ones_unpaired(tmp_path):
+    root = tmp_path / "eval"
+    key = ("laptop/0030", "open", "tabletop/16")
+    # The same 10 episodes: the depth row wins 4 that head RGB loses, head RGB 1 that the depth row loses.
+    write_run(root, "g1", "ablation_image_head_rgb", PROTOCOL_SPLIT, {key: [True] + [False] * 9})
+    write_run(
+        root, "g1", "ablation_image_head_rgbd", PROTOCOL_SPLIT, {key: [False] + [True] * 4 + [False] * 5}
+    )
+    # Seen objects in unseen rooms up from seen rooms here: against the paper's direction.
+    write_run(root, "g1", "ablation_image_all", "train_objects_train_scenes", {key: [True] * 2 + [False] * 8})
+    unseen_room = ("laptop/0030", "open", "tabletop/17")
+    write_run(
+        root, "g1", "ablation_image_all", "train_objects_test_scenes", {unseen_room: [True] * 8 + [False] * 2}
+    )
+    rows = {
+        row[1]: row for row in build_tables(load(root), "default", "ablation_image_all")["vla_takeaways"].rows
+    }
+
+    depth = rows["head RGB, then + head depth"]
+    assert depth[2:5] == ["10.0 (1/10)", "40.0 (4/10)", "+30.0"]
+    assert depth[5] == "paired, 10 episodes: 1 vs 4 won by one only"
+    assert depth[6] == f"{2 * 6 / 32:.3f}"  # P(at most 1 of 5 discordant on one side) x 2
+    assert depth[7:] == ["7.9", "14.1", "yes"]
+    rooms = rows["seen objects and scenes, then unseen scenes"]
+    assert rooms[2:6] == ["20.0 (2/10)", "80.0 (8/10)", "+60.0", "unpaired (different episodes)"]
+    assert rooms[7:] == ["59.6", "51.3", "no"]
+    assert rows["no state, then + wrist pose"][2:7] == ["-"] * 5
+
+
+def test_significance_tests_of_success_rates():
+    assert mcnemar_p(16, 35) == mcnemar_p(35, 16) == pytest.approx(0.011, abs=5e-4)
+    assert mcnemar_p(1, 4) == 2 * (1 + 5) / 2**5
+    assert mcnemar_p(0, 0) == mcnemar_p(3, 3) == 1.0
+    # 183/544 against 150/528: z = 1.85
+    assert two_proportion_p(183, 544, 150, 528) == pytest.approx(0.064, abs=1e-3)
+    assert two_proportion_p(5, 10, 10, 20) == 1.0
+    assert two_proportion_p(0, 10, 0, 20) == 1.0
