@@ -6,7 +6,9 @@ env: `MobileManiEnv.step` with random actions (IK, physics, observations, reward
 raw: the same compiled model in a `mujoco.batch.Batch` of the same size and thread count replaying the joint
 targets the env produced (same start state, same motion), in one `Batch.rollout` call per 32 control steps, so
 with no Python work between steps.
-Both report control steps per second (x substeps = physics steps per second), best of interleaved trials.
+physics: the same replay in the env's own physics calls (two per control step, velocities read between them):
+the env's ceiling, were its Python work free.
+All report control steps per second (x substeps = physics steps per second), best of interleaved trials.
 --profile N: then each stage's share of N more steps of the same env through the rsl-rl adapter
 (mobilemani_rl.envs.step_profile). Prints tables and JSON.
 """
@@ -17,6 +19,7 @@ import argparse
 import json
 import time
 from collections.abc import Callable
+from dataclasses import dataclass
 
 import mujoco
 import mujoco.batch
@@ -48,35 +51,76 @@ def interleaved_rates(
     return best
 
 
-def raw_physics_replay(
-    env: MobileManiEnv,
-    rng: np.random.Generator,
-    segment: int = 32,
-) -> tuple[Callable[[], None], int]:
-    """The raw physics limit for the env's own workload: record the joint targets the env sends while it steps
-    `segment` control steps of random actions, then replay them in a fresh `mujoco.batch.Batch` of the same
-    model, size and threads with one `Batch.rollout` call (no Python between steps),
-    from the same start state.
+@dataclass(frozen=True)
+class ControlRecording:
+    """The joint targets an env sent over `segment` control steps of random actions, and the state it
+    started from: replaying them keeps the physics work equal (moving arms, contacts), where a batch stepped
+    with fixed controls settles and measures a cheaper, idle robot."""
 
-    Replaying the env's controls keeps the physics work equal (moving arms, contacts); a batch stepped with
-    fixed controls settles and measures a cheaper, idle robot.
-    """
-    fields = ("qpos", "qvel", "ctrl", "mocap_pos", "mocap_quat")
-    start = {f: env.batch.bind(f).copy() for f in fields}
+    start: dict[str, np.ndarray]
+    controls: np.ndarray  # (num_envs, segment, nu)
+
+    @property
+    def segment(self) -> int:
+        return self.controls.shape[1]
+
+    def load(self, batch: mujoco.batch.Batch) -> None:
+        for field, value in self.start.items():
+            batch.bind(field)[:] = value
+
+
+def record_controls(env: MobileManiEnv, rng: np.random.Generator, segment: int = 32) -> ControlRecording:
+    start = {f: env.batch.bind(f).copy() for f in ("qpos", "qvel", "ctrl", "mocap_pos", "mocap_quat")}
     controls = np.empty((env.num_envs, segment, env.model.nu))
     for k in range(segment):
         env.step(rng.uniform(-1, 1, (env.num_envs, env.num_actions)))
         controls[:, k] = env.view.ctrl
+    return ControlRecording(start, controls)
+
+
+def rollout_replay(env: MobileManiEnv, recording: ControlRecording) -> tuple[Callable[[], None], int]:
+    """The raw physics limit: the recording replayed in a fresh `mujoco.batch.Batch` of the env's model, size
+    and threads with one `Batch.rollout` call (no Python between steps), from the same start state."""
     substeps = env.cfg.physics.substeps
-    per_substep = np.repeat(controls, substeps, axis=1)
+    per_substep = np.repeat(recording.controls, substeps, axis=1)
     raw = mujoco.batch.Batch(env.model, env.num_envs, nthread=env.cfg.physics.nthread)
 
     def replay() -> None:
-        for field, value in start.items():
-            raw.bind(field)[:] = value
-        raw.rollout(segment * substeps, control=per_substep, control_spec=mujoco.mjtState.mjSTATE_CTRL)
+        recording.load(raw)
+        raw.rollout(
+            recording.segment * substeps, control=per_substep, control_spec=mujoco.mjtState.mjSTATE_CTRL
+        )
 
-    return replay, segment
+    return replay, recording.segment
+
+
+def stepped_replay(env: MobileManiEnv, recording: ControlRecording) -> tuple[Callable[[], None], int]:
+    """The env's own physics calls alone: the recording replayed in a persistent batch as `MobileManiEnv.step`
+    steps it, per control step all substeps but the last, a read of the joint velocities, then the last. Its
+    rate is the most the env can reach with its Python work free; below the raw limit, as the batch's threads
+    meet twice per control step instead of once per rollout."""
+    batch = mujoco.batch.Batch(env.model, env.num_envs, nthread=env.cfg.physics.nthread, persistent=True)
+    ctrl, qvel = batch.bind("ctrl"), batch.bind("qvel")
+    substeps, dofs = env.cfg.physics.substeps, env.frame_reader.active_dof
+
+    def replay() -> None:
+        recording.load(batch)
+        batch.forward(stage=mujoco.mjtStage.mjSTAGE_VEL)
+        for k in range(recording.segment):
+            ctrl[:] = recording.controls[:, k]
+            if substeps > 1:
+                batch.step(nstep=substeps - 1)
+            np.take(qvel, dofs, axis=1)
+            batch.step(nstep=1, stage=mujoco.mjtStage.mjSTAGE_VEL)
+
+    return replay, recording.segment
+
+
+def raw_physics_replay(
+    env: MobileManiEnv, rng: np.random.Generator, segment: int = 32
+) -> tuple[Callable[[], None], int]:
+    """`rollout_replay` of `segment` control steps the env takes now."""
+    return rollout_replay(env, record_controls(env, rng, segment))
 
 
 def bench_task(
@@ -97,8 +141,13 @@ def bench_task(
         env.step(actions[next(counter) % len(actions)])
 
     substeps = env.cfg.physics.substeps
-    raw = raw_physics_replay(env, rng)
-    rates = interleaved_rates({"env": (env_step, 1), "raw": raw}, num_envs, seconds)
+    recording = record_controls(env, rng)
+    steppers = {
+        "env": (env_step, 1),
+        "raw": rollout_replay(env, recording),
+        "physics": stepped_replay(env, recording),
+    }
+    rates = interleaved_rates(steppers, num_envs, seconds)
     env_rate, raw_rate = rates["env"], rates["raw"]
     # the rates are measured; the env's last use is the profile, which instruments it
     profile = {"profile": profile_step(env, profile_steps)} if profile_steps else {}
@@ -111,6 +160,8 @@ def bench_task(
         "raw_steps_per_s": round(raw_rate),
         "raw_physics_steps_per_s": round(raw_rate * substeps),
         "env_over_raw": round(env_rate / raw_rate, 3),
+        "physics_steps_per_s": round(rates["physics"]),
+        "physics_over_raw": round(rates["physics"] / raw_rate, 3),
         **profile,
     }
 
@@ -139,8 +190,9 @@ def main(argv: list[str] | None = None) -> list[dict]:
     print_report(
         "sim",
         results,
-        f"{'robot':6} {'envs':>5} {'env steps/s':>12} {'raw steps/s':>12} {'env/raw':>8}",
-        "{robot:6} {num_envs:5d} {env_steps_per_s:12d} {raw_steps_per_s:12d} {env_over_raw:8.2f}",
+        f"{'robot':6} {'envs':>5} {'env steps/s':>12} {'raw steps/s':>12} {'env/raw':>8} {'physics/raw':>12}",
+        "{robot:6} {num_envs:5d} {env_steps_per_s:12d} {raw_steps_per_s:12d} {env_over_raw:8.2f}"
+        " {physics_over_raw:12.2f}",
     )
     return results
 
