@@ -110,7 +110,7 @@ def stepped_replay(env: MobileManiEnv, recording: ControlRecording) -> tuple[Cal
             ctrl[:] = recording.controls[:, k]
             if substeps > 1:
                 batch.step(nstep=substeps - 1)
-            np.take(qvel, dofs, axis=1)
+            np.take(qvel, dofs, axis=1)  # the env's read of the velocities, timed with the physics
             batch.step(nstep=1, stage=mujoco.mjtStage.mjSTAGE_VEL)
 
     return replay, recording.segment
