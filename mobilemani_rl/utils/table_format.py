@@ -10,6 +10,11 @@ def pct(value: float | None) -> str:
     return "-" if value is None else f"{100.0 * value:.1f}"
 
 
+def num(value: float | None) -> str:
+    """A number already in percent (the paper's) with one decimal, '-' where there is none."""
+    return "-" if value is None else f"{value:.1f}"
+
+
 @dataclass
 class Table:
     header: list[str]

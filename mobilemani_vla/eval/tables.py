@@ -29,7 +29,7 @@ from matplotlib.figure import Figure  # the object API: no pyplot backend to sel
 from mobilemani_rl.assets.objects import CATEGORIES, catalog_ids
 from mobilemani_rl.utils.cli import entry_point
 from mobilemani_rl.utils.io import check_writable, read_json
-from mobilemani_rl.utils.table_format import Table, pct
+from mobilemani_rl.utils.table_format import Table, num, pct
 from mobilemani_vla.config import CAMERAS, STATES
 from mobilemani_vla.eval.paper import (
     IMAGE_ABLATION,
@@ -130,10 +130,6 @@ def rate(summary: dict | None, *path: str) -> float | None:
             return None
         node = node[key]
     return node["success_rate"]
-
-
-def num(value: float | None) -> str:
-    return "-" if value is None else f"{value:.1f}"
 
 
 def check(flag: bool) -> str:

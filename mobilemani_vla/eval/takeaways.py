@@ -12,7 +12,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 from mobilemani_rl.utils.stats import mcnemar_p, two_proportion_p
-from mobilemani_rl.utils.table_format import Table
+from mobilemani_rl.utils.table_format import Table, num
 from mobilemani_vla.eval.paper import (
     PROTOCOL_SPLIT,
     SEEN_SEEN,
@@ -131,7 +131,7 @@ def takeaway_row(results: dict, comparison: Comparison) -> list[str]:
     paper = [paper_success(*result) for result in (comparison.first, comparison.second)]
     found = [results.get(("g1", *result)) for result in (comparison.first, comparison.second)]
     head = [str(comparison.takeaway), comparison.label]
-    paper_cells = [f"{value:.1f}" if value is not None else "-" for value in paper]
+    paper_cells = [num(value) for value in paper]
     if not all(found):
         return [*head, "-", "-", "-", "-", "-", *paper_cells, "-"]
     outcome = compare(found[0]["records"], found[1]["records"])
