@@ -123,8 +123,9 @@ def recorded_image_size(directory: str | Path) -> tuple[int, int] | None:
 
 def training_scale(directory: str | Path, cfg: VLACfg) -> dict:
     """How much training a checkpoint holds, for the captions of result tables: its model preset, steps,
-    batch, samples seen, training episodes and image size; and the digest of its weights, which tells a
-    retrained model from the one whose results its directory holds."""
+    batch, samples seen, training episodes and image size; the digest of its dataset, which tells rows
+    trained on different demonstrations apart; and the digest of its weights, which tells a retrained model
+    from the one whose results its directory holds."""
     directory = Path(directory)
     dataset = read_json(directory / DATASET)
     step = checkpoint_step(directory)
@@ -135,6 +136,7 @@ def training_scale(directory: str | Path, cfg: VLACfg) -> dict:
         "samples": step * cfg.train.batch_size,
         "train_episodes": len(dataset["train_episodes"]),
         "image_size": dataset.get("image_size"),
+        "dataset_sha256": dataset.get("sha256"),
         "weights_sha256": weights_sha256(directory),
     }
 

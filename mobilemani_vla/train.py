@@ -243,6 +243,7 @@ def _train(cfg: VLACfg, held: ExitStack) -> TrainResult:
     processor = VLAProcessor.for_config(cfg, tokenizer, normalizer, model.backbone.image_size)
     dataset_info = {
         "root": cfg.data.root,
+        "sha256": data.table.digest(),
         "train_episodes": data.train_episodes.tolist(),
         "heldout_episodes": data.heldout_episodes.tolist(),
         "image_size": data.image_size,

@@ -11,6 +11,7 @@ it would make the normalisation bounds NaN.
 
 from __future__ import annotations
 
+import hashlib
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -91,6 +92,13 @@ class FrameTable:
 
     def rows(self, episodes: np.ndarray) -> np.ndarray:
         return np.flatnonzero(np.isin(self.episode_index, episodes))
+
+    def digest(self) -> str:
+        """sha256 of every frame's episode and action label: two datasets share it only if they hold the same
+        demonstrations (a dataset rebuilt from other teachers differs), whatever their paths."""
+        digest = hashlib.sha256(np.ascontiguousarray(self.episode_index, dtype=np.int64).tobytes())
+        digest.update(np.ascontiguousarray(self.columns[schema.ACTION], dtype=np.float64).tobytes())
+        return digest.hexdigest()
 
     def chunk(self, row: int, length: int) -> tuple[np.ndarray, np.ndarray]:
         """Dataset rows of the chunk starting at `row` (the episode's last frame repeated past its end) and

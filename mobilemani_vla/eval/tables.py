@@ -92,15 +92,16 @@ def load(root: Path) -> RecordingResults:
 
 
 def training_note(run: str, training: dict) -> str:
-    """'g1/run: cpu model, 30,000 steps x 32 = 960,000 samples, from 4,326 episodes, at 64 px'; the parts the
-    evaluation recorded."""
+    """'g1/run: cpu model, 30,000 steps x 32 = 960,000 samples, from 4,326 episodes (dataset 3f2a9c1e), at
+    64 px'; the parts the evaluation recorded."""
     parts = [f"{training['model']} model"] if "model" in training else []
     if "steps" in training:
         parts.append(
             f"{training['steps']:,} steps x {training['batch_size']} = {training['samples']:,} samples"
         )
     if "train_episodes" in training:
-        parts.append(f"from {training['train_episodes']:,} episodes")
+        dataset = f" (dataset {training['dataset_sha256'][:8]})" if training.get("dataset_sha256") else ""
+        parts.append(f"from {training['train_episodes']:,} episodes{dataset}")
     if training.get("image_size"):
         parts.append(f"at {training['image_size'][0]} px")
     return f"{run}: {', '.join(parts)}"

@@ -119,6 +119,7 @@ def test_captions_state_the_training_scale_each_evaluation_recorded(tmp_path):
                 "samples": 960000,
                 "train_episodes": 4326,
                 "image_size": [64, 64],
+                "dataset_sha256": "3f2a9c1e" + "0" * 56,
             },
         ),
         ("lerobot_act", {"model": "act", "steps": 5000, "batch_size": 8, "samples": 40000}),
@@ -128,7 +129,8 @@ def test_captions_state_the_training_scale_each_evaluation_recorded(tmp_path):
         (root / "g1" / run / "config.json").write_text(json.dumps({"policy_training": training}))
     tables = build_tables(load(root), "default", "ablation_image_all")
     main = (
-        "g1/ablation_image_all: cpu model, 30,000 steps x 32 = 960,000 samples, from 4,326 episodes, at 64 px"
+        "g1/ablation_image_all: cpu model, 30,000 steps x 32 = 960,000 samples, from 4,326 episodes "
+        "(dataset 3f2a9c1e), at 64 px"
     )
     assert tables["vla_ablation_image"].caption.endswith(f"Our runs: {main}.")
     models = tables["vla_models"].caption

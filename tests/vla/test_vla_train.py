@@ -232,6 +232,7 @@ def test_checkpoint_resume_and_policy(dataset_root, tmp_path):
         "tokenizer",
         "backbone_config.json",
     } <= {p.name for p in first.checkpoint.iterdir()}
+    assert_records_its_datasets_digest(first.checkpoint, cfg)
     longer = tiny_cfg(
         dataset_root,
         tmp_path,
@@ -286,6 +287,20 @@ def test_checkpoint_resume_and_policy(dataset_root, tmp_path):
         policy.predict_action_chunk({"head_rgb": images["head_rgb"]}, "open box", vectors)
     with pytest.raises(KeyError, match="object.goal_point_base"):
         policy.predict_action_chunk(images, "open box", {schema.STATE: vectors[schema.STATE]})
+
+
+def assert_records_its_datasets_digest(checkpoint: Path, cfg) -> None:
+    """The checkpoint names its demonstrations by digest (the tables print it): the same frames give the same
+    digest, one changed action label another."""
+    from mobilemani_vla.checkpoint import training_scale
+    from mobilemani_vla.data.dataset import FrameTable, open_metadata, vector_keys
+
+    table = FrameTable.read(open_metadata(cfg), vector_keys(cfg.inputs.states))
+    recorded = json.loads((checkpoint / "dataset.json").read_text())["sha256"]
+    assert recorded == table.digest() == training_scale(checkpoint, cfg)["dataset_sha256"]
+    table.columns["action"] = table.columns["action"].copy()
+    table.columns["action"][5, 0] += 1e-6
+    assert table.digest() != recorded
 
 
 def test_a_segmentation_stream_trains_and_acts_as_an_image_input(dataset_root, tmp_path):
