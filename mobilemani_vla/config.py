@@ -137,6 +137,10 @@ class TrainCfg:
     grad_clip: float = 1.0
     mixed_precision: str = "no"  # "bf16" on GPUs
     gradient_checkpointing: bool = False
+    # torch.compile the model being trained (inductor, which needs a C++ compiler at run time): faster steps
+    # after a compile at the start of every run or piece (docs/results/throughput.md); the saved weights and
+    # the averaged copy stay plain
+    compile: bool = False
     log_every: int = 10
     diagnose_every: int = (
         500  # > 0: held-out diagnostics (noise error with image vs null feature, open-loop error)

@@ -274,6 +274,8 @@ def _train(cfg: VLACfg, held: ExitStack) -> TrainResult:
         start = checkpoint_step(resume_from)
         if ema is not None:
             load_ema(ema, resume_from)
+    if cfg.train.compile:  # in place, after the average copied the model: its keys and copies stay plain
+        accelerator.unwrap_model(model).compile()
     # Every input is checked by now; the run directory is made here, not by Hydra before the checks.
     output_dir.mkdir(parents=True, exist_ok=True)
     if accelerator.is_main_process:

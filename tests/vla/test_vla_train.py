@@ -71,6 +71,20 @@ def test_a_new_output_directory_is_made_before_the_first_diagnostics(dataset_roo
     assert [json.loads(line)["step"] for line in lines] == [0, 1, 2]  # the untrained model's first
 
 
+@pytest.mark.slow
+def test_a_compiled_training_run_saves_plain_weights_that_an_uncompiled_run_resumes(dataset_root, tmp_path):
+    """train.compile=true compiles the trained model in place: it trains, its checkpoint holds the plain
+    model's keys (no compile wrapper's prefix), and a run without compiling resumes from it."""
+    from safetensors import safe_open
+
+    compiled = train(tiny_cfg(dataset_root, tmp_path, ["train.steps=2", "train.compile=true"]))
+    assert len(compiled.losses) == 2 and np.isfinite(compiled.losses).all()
+    with safe_open(str(compiled.checkpoint / "model.safetensors"), "pt") as weights:
+        assert set(weights.keys()) == set(compiled.model.state_dict())
+    resumed = train(tiny_cfg(dataset_root, tmp_path, ["train.steps=3"]))
+    assert len(resumed.losses) == 1 and resumed.checkpoint.name == "step_00000003"
+
+
 def test_a_second_training_run_on_the_same_output_directory_stops(dataset_root, tmp_path):
     out = tmp_path / "run"
     cfg = tiny_cfg(dataset_root, out, ["train.steps=1", "train.diagnose_every=0"])
