@@ -11,12 +11,14 @@ project's settings of the policy type (mobilemani_vla.lerobot_presets; flags giv
 Rerunning the same command continues, as our own stages do (lerobot-train refuses an existing --output_dir,
 and its `--resume=true` trains to the steps the run was first given): from the run's last checkpoint to
 --steps, nothing when it has them; fewer steps, or another policy type, dataset or batch size, are refused
-by name.
+by name. A finished run records its dataset's digest in `<output_dir>/dataset.json`, as our own checkpoints
+do, for the tables' captions.
 """
 
 from __future__ import annotations
 
 import argparse
+import json
 import shutil
 import sys
 from contextlib import nullcontext
@@ -27,6 +29,8 @@ from mobilemani_rl.utils.cli import entry_point
 from mobilemani_rl.utils.errors import ConfigMismatchError, InputError, OutputExistsError, check_values
 from mobilemani_rl.utils.io import read_json
 from mobilemani_rl.utils.video_logs import quiet_video_libraries
+from mobilemani_vla.checkpoint import DATASET
+from mobilemani_vla.data.dataset import dataset_digest
 from mobilemani_vla.lerobot_presets import ensure_smolvlm_backbone, merge_flags, preset_flags
 
 FLAG = "--frame_cache="
@@ -150,6 +154,7 @@ def main() -> None:
     sys.argv[1:] = with_preset(arguments)
     quiet_video_libraries()
     check_arguments(sys.argv[1:])
+    output_dir = given(sys.argv[1:]).output_dir  # a resume's arguments name its config instead
     if (arguments := continued(sys.argv[1:])) is None:
         return
     sys.argv[1:] = arguments
@@ -161,6 +166,15 @@ def main() -> None:
 
     with served_from_frame_cache() if use_cache else nullcontext():
         lerobot_train()
+    if output_dir is not None:
+        record_dataset(Path(output_dir))
+
+
+def record_dataset(run: Path) -> None:
+    """`<run>/dataset.json`: the root and digest of the dataset the run's config names."""
+    dataset = read_json(run / LAST / "pretrained_model" / "train_config.json")["dataset"]
+    record = {"root": dataset["root"], "sha256": dataset_digest(dataset["repo_id"], dataset["root"])}
+    (run / DATASET).write_text(json.dumps(record, indent=1) + "\n")
 
 
 if __name__ == "__main__":

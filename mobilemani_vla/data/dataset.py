@@ -107,6 +107,11 @@ class FrameTable:
         return np.minimum(wanted, self.episode_end[row] - 1), wanted >= self.episode_end[row]
 
 
+def dataset_digest(repo_id: str, root: str | Path) -> str:
+    """FrameTable.digest of a local dataset: its episodes and action labels."""
+    return FrameTable.read(open_dataset_metadata(repo_id, root), [schema.ACTION]).digest()
+
+
 def chosen_episodes(episodes: list[int] | None, total: int, root: str) -> list[int]:
     """`data.episodes`, or every episode when unset; each must be one of the dataset's, once."""
     if episodes is None:

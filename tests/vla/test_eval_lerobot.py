@@ -1,6 +1,7 @@
 """LeRobot policies (ACT, Diffusion Policy, SmolVLA) built for our dataset, saved and loaded back with
 LeRobot's API, run through the harness."""
 
+import json
 import subprocess
 import sys
 from pathlib import Path
@@ -13,6 +14,7 @@ from checkout import ROOT, checkout_env
 from mobilemani_data import schema
 from mobilemani_rl.envs.config import EnvCfg, TaskCfg
 from mobilemani_rl.envs.mobilemani_env import MobileManiEnv
+from mobilemani_vla.data.dataset import dataset_digest
 from mobilemani_vla.data.synthetic import write_synthetic_dataset
 from mobilemani_vla.eval.harness import run_batch
 from mobilemani_vla.eval.policies.lerobot import LeRobotEvalPolicy
@@ -179,6 +181,10 @@ def smolvla_dir(tmp_path_factory) -> Path:
 def test_lerobot_smolvla_trained_offline_runs_through_the_harness(smolvla_dir):
     policy = LeRobotEvalPolicy(smolvla_dir)
     assert policy.name == "lerobot_smolvla" and policy.windowed and policy.image_size == (48, 64)
+    # The run recorded its dataset's digest, which the evaluation's training record then carries.
+    record = json.loads((smolvla_dir.parents[2] / "dataset.json").read_text())
+    digest = dataset_digest("synthetic/g1", record["root"])
+    assert policy.training["dataset_sha256"] == record["sha256"] == digest
     assert {HEAD_RGB, schema.STATE, "task"} <= policy.inputs and policy.action_dim == 7
     env = MobileManiEnv(
         EnvCfg(num_envs=2, seed=0, episode_length=6, task=TaskCfg(object="test/box", skill="open"))

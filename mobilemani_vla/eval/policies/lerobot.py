@@ -25,6 +25,7 @@ from mobilemani_data import schema
 from mobilemani_rl.envs.mobilemani_env import MobileManiEnv
 from mobilemani_rl.utils.errors import MissingFileError
 from mobilemani_rl.utils.io import read_json, weights_sha256
+from mobilemani_vla.checkpoint import DATASET
 from mobilemani_vla.eval.policies.base import TASK, EvalPolicy, Observation, active_rows, scatter_rows
 
 
@@ -122,8 +123,12 @@ class LeRobotEvalPolicy(EvalPolicy):
 def lerobot_training_scale(pretrained: Path, policy_type: str) -> dict:
     """How much training a `lerobot-train` checkpoint holds, from the step it records beside
     `pretrained_model` and its training config's batch (per process); only the policy type where the step is
-    not there (a pretrained_model copied on its own); always the digest of its weights."""
+    not there (a pretrained_model copied on its own); the digest of its dataset where its run recorded one
+    (mobilemani_vla.lerobot_train); always the digest of its weights."""
     identity = {"model": policy_type, "weights_sha256": weights_sha256(pretrained)}
+    record = pretrained.parents[2] / DATASET  # <run>/checkpoints/<step>/pretrained_model
+    if record.is_file():
+        identity["dataset_sha256"] = read_json(record)["sha256"]
     state = pretrained.parent / "training_state" / "training_step.json"
     if not state.is_file():
         return identity
