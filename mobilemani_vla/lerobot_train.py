@@ -18,7 +18,6 @@ do, for the tables' captions.
 from __future__ import annotations
 
 import argparse
-import json
 import shutil
 import sys
 from contextlib import nullcontext
@@ -27,7 +26,7 @@ from pathlib import Path
 from mobilemani_data.metadata import open_dataset_metadata
 from mobilemani_rl.utils.cli import entry_point
 from mobilemani_rl.utils.errors import ConfigMismatchError, InputError, OutputExistsError, check_values
-from mobilemani_rl.utils.io import read_json
+from mobilemani_rl.utils.io import read_json, write_json_atomic
 from mobilemani_rl.utils.video_logs import quiet_video_libraries
 from mobilemani_vla.checkpoint import DATASET
 from mobilemani_vla.data.dataset import dataset_digest
@@ -174,7 +173,7 @@ def record_dataset(run: Path) -> None:
     """`<run>/dataset.json`: the root and digest of the dataset the run's config names."""
     dataset = read_json(run / LAST / "pretrained_model" / "train_config.json")["dataset"]
     record = {"root": dataset["root"], "sha256": dataset_digest(dataset["repo_id"], dataset["root"])}
-    (run / DATASET).write_text(json.dumps(record, indent=1) + "\n")
+    write_json_atomic(run / DATASET, record)  # a stopped write leaves no half record for the tables to read
 
 
 if __name__ == "__main__":
