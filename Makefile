@@ -46,13 +46,16 @@ help:
 # The LeRobot plugins (integrations/): lerobot-eval --env.type=mobilemanibench, lerobot-train --policy.type=mobilemanivla
 PLUGINS = integrations/lerobot_env_mobilemanibench integrations/lerobot_policy_mobilemanivla
 
-# Rebuilt only when the dependency list changes.
+# Rebuilt only when the dependency list changes. Two `make` calls started together would both find it stale:
+# the lock makes the second wait, and the recheck inside it skips the install the first one just finished.
 $(VENV)/.installed: pyproject.toml $(addsuffix /pyproject.toml,$(PLUGINS))
 	@test -n "$(PYTHON312)" || { echo "error: Python 3.12 not found on PATH or under pyenv"; exit 1; }
-	@test -x $(PY) || $(PYTHON312) -m venv $(VENV)
-	@echo "installing into $(VENV): PyTorch with its CUDA libraries and the rest, several GB (pip's progress below)"
-	$(PY) -m pip install --quiet --upgrade pip
-	$(PY) -m pip install --progress-bar on -e ".[dev]" $(addprefix -e ,$(PLUGINS))
+	@set -e; exec 9>$(VENV).lock; ! command -v flock >/dev/null || flock 9; \
+	if [ -f $@ ] && [ -z "$$(find $^ -newer $@)" ]; then echo "$(VENV) is up to date (installed by another make call)"; exit 0; fi; \
+	test -x $(PY) || $(PYTHON312) -m venv $(VENV); \
+	echo "installing into $(VENV): PyTorch with its CUDA libraries and the rest, several GB (pip's progress below)"; \
+	$(PY) -m pip install --quiet --upgrade pip; \
+	$(PY) -m pip install --progress-bar on -e ".[dev]" $(addprefix -e ,$(PLUGINS)); \
 	touch $@
 
 test: setup
